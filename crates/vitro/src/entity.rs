@@ -1,0 +1,171 @@
+//! Entities: identities (id + name). An agent is a brain; its body is state in storages.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fmt;
+
+/// Identity of an entity: a dense index, assigned in creation order.
+#[derive(
+    Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Default, Serialize, Deserialize,
+)]
+#[serde(transparent)]
+pub struct EntityId(pub u32);
+
+impl EntityId {
+    /// The index of this entity in creation order.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+impl fmt::Display for EntityId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "#{}", self.0)
+    }
+}
+
+/// Errors of the entity directory.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum EntityError {
+    /// Two entities may not share a name.
+    #[error("an entity named {0:?} already exists")]
+    DuplicateName(String),
+}
+
+/// The directory of all entities of a simulation: ids in creation order, unique names.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct Entities {
+    names: Vec<String>,
+    by_name: BTreeMap<String, EntityId>,
+}
+
+impl Entities {
+    /// Creates an entity with a unique name.
+    pub fn create(&mut self, name: impl Into<String>) -> Result<EntityId, EntityError> {
+        let name = name.into();
+        if self.by_name.contains_key(&name) {
+            return Err(EntityError::DuplicateName(name));
+        }
+        let id = EntityId(u32::try_from(self.names.len()).expect("more than 2^32 entities"));
+        self.by_name.insert(name.clone(), id);
+        self.names.push(name);
+        Ok(id)
+    }
+    /// The entity called `name`.
+    pub fn lookup(&self, name: &str) -> Option<EntityId> {
+        self.by_name.get(name).copied()
+    }
+    /// The name of `id`.
+    pub fn name(&self, id: EntityId) -> Option<&str> {
+        self.names.get(id.index()).map(String::as_str)
+    }
+    /// Number of entities.
+    pub fn len(&self) -> usize {
+        self.names.len()
+    }
+    /// True if there are no entities.
+    pub fn is_empty(&self) -> bool {
+        self.names.is_empty()
+    }
+    /// All ids, in creation order.
+    pub fn ids(&self) -> impl Iterator<Item = EntityId> + '_ {
+        (0..self.names.len() as u32).map(EntityId)
+    }
+}
+
+/// Who offers which capability: a directory service ("yellow pages").
+///
+/// ```
+/// use vitro::entity::{CapabilityRegister, EntityId};
+/// let mut reg = CapabilityRegister::default();
+/// reg.offer(EntityId(3), "transport");
+/// reg.offer(EntityId(1), "transport");
+/// reg.offer(EntityId(1), "surveillance");
+/// assert_eq!(reg.providers("transport").collect::<Vec<_>>(), [EntityId(1), EntityId(3)]);
+/// reg.withdraw(EntityId(1), "transport");
+/// assert_eq!(reg.providers("transport").collect::<Vec<_>>(), [EntityId(3)]);
+/// assert_eq!(reg.capabilities_of(EntityId(1)).collect::<Vec<_>>(), ["surveillance"]);
+/// ```
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct CapabilityRegister {
+    providers: BTreeMap<String, std::collections::BTreeSet<EntityId>>,
+}
+
+impl CapabilityRegister {
+    /// Registers `who` as offering `capability`. Returns false if it already did.
+    pub fn offer(&mut self, who: EntityId, capability: &str) -> bool {
+        self.providers
+            .entry(capability.to_owned())
+            .or_default()
+            .insert(who)
+    }
+    /// Removes an offer. Returns false if there was none.
+    pub fn withdraw(&mut self, who: EntityId, capability: &str) -> bool {
+        let Some(set) = self.providers.get_mut(capability) else {
+            return false;
+        };
+        let removed = set.remove(&who);
+        if set.is_empty() {
+            self.providers.remove(capability);
+        }
+        removed
+    }
+    /// Removes every offer of `who` (e.g. when it is destroyed).
+    pub fn withdraw_all(&mut self, who: EntityId) {
+        self.providers.retain(|_, set| {
+            set.remove(&who);
+            !set.is_empty()
+        });
+    }
+    /// Entities offering `capability`, in id order (deterministic).
+    pub fn providers(&self, capability: &str) -> impl Iterator<Item = EntityId> + '_ {
+        self.providers
+            .get(capability)
+            .into_iter()
+            .flat_map(|s| s.iter().copied())
+    }
+    /// True if `who` offers `capability`.
+    pub fn offers(&self, who: EntityId, capability: &str) -> bool {
+        self.providers
+            .get(capability)
+            .is_some_and(|s| s.contains(&who))
+    }
+    /// Capabilities offered by `who`, in name order.
+    pub fn capabilities_of(&self, who: EntityId) -> impl Iterator<Item = &str> + '_ {
+        self.providers
+            .iter()
+            .filter(move |(_, s)| s.contains(&who))
+            .map(|(c, _)| c.as_str())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_ids_dense() {
+        let mut e = Entities::default();
+        let a = e.create("car-1").unwrap();
+        let b = e.create("car-2").unwrap();
+        assert_eq!((a, b), (EntityId(0), EntityId(1)));
+        assert_eq!(
+            e.create("car-1"),
+            Err(EntityError::DuplicateName("car-1".into()))
+        );
+        assert_eq!(e.lookup("car-2"), Some(b));
+        assert_eq!(e.name(a), Some("car-1"));
+    }
+
+    #[test]
+    fn withdraw_all_clears_offers() {
+        let mut r = CapabilityRegister::default();
+        r.offer(EntityId(0), "a");
+        r.offer(EntityId(0), "b");
+        r.offer(EntityId(1), "b");
+        r.withdraw_all(EntityId(0));
+        assert!(!r.offers(EntityId(0), "b"));
+        assert_eq!(r.providers("b").collect::<Vec<_>>(), [EntityId(1)]);
+        assert_eq!(r.providers("a").count(), 0);
+    }
+}

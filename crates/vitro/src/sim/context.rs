@@ -1,0 +1,240 @@
+//! The agent's window on the world: sensors, actuators, time, messages, random streams.
+
+use super::Model;
+use super::kernel::{Kernel, Queued};
+use crate::comm::{Address, Envelope, GroupId, Network, Outgoing, Route};
+use crate::entity::{CapabilityRegister, EntityId};
+use crate::env::{Actuator, Effects, Probe, Sensor};
+use crate::event::{EventId, Schedule, ScheduleError, Target};
+use crate::rng::Owner;
+use crate::time::{SimDuration, SimTime};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+/// The simulated cost of thinking: `base + per_unit × units` (e.g. per search node expanded).
+///
+/// Deliberation is charged simulated time from this declared model, never host time, so the
+/// scenario, not the CPU, sets how fast agents reason.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CostModel {
+    /// Fixed cost of any deliberation.
+    pub base: SimDuration,
+    /// Cost of one unit of work.
+    pub per_unit: SimDuration,
+}
+
+impl CostModel {
+    /// The simulated duration of `units` units of work.
+    pub fn cost(&self, units: u64) -> SimDuration {
+        self.base + self.per_unit * units
+    }
+}
+
+/// What an agent may do while it handles an input. It holds no way to reach the environment
+/// but [`sense`](Self::sense) and [`act`](Self::act).
+pub struct Context<'a, M: Model> {
+    pub(crate) me: EntityId,
+    pub(crate) env: &'a mut M::Env,
+    pub(crate) k: &'a mut Kernel<M::Event, M::Msg>,
+}
+
+impl<'a, M: Model> Context<'a, M> {
+    /// The entity this agent is.
+    pub fn me(&self) -> EntityId {
+        self.me
+    }
+    /// The current simulated time.
+    pub fn now(&self) -> SimTime {
+        self.k.queue.now()
+    }
+    /// The name of an entity.
+    pub fn name_of(&self, id: EntityId) -> Option<&str> {
+        self.k.entities.name(id)
+    }
+    /// The entity called `name`.
+    pub fn lookup(&self, name: &str) -> Option<EntityId> {
+        self.k.entities.lookup(name)
+    }
+
+    /// Reads a sensor now.
+    pub fn sense<S: Sensor<M::Env>>(&mut self, sensor: &S) -> S::Reading {
+        let mut probe = Probe {
+            now: self.k.queue.now(),
+            owner: self.me,
+            rngs: &mut self.k.rngs,
+        };
+        sensor.read(self.env, self.me, &mut probe)
+    }
+
+    /// Reads a sensor now and delivers the reading to this agent after `latency`, as the event
+    /// `wrap(reading)` (a sensor acting with a delay).
+    pub fn sense_later<S: Sensor<M::Env>>(
+        &mut self,
+        sensor: &S,
+        latency: SimDuration,
+        wrap: impl FnOnce(S::Reading) -> M::Event,
+    ) -> EventId {
+        let reading = self.sense(sensor);
+        self.schedule_in(latency, Target::Entity(self.me), wrap(reading))
+    }
+
+    /// Commands an actuator.
+    pub fn act<A: Actuator<M::Env, M::Event>>(
+        &mut self,
+        actuator: &A,
+        cmd: A::Command,
+    ) -> Result<(), A::Error> {
+        let mut fx = Effects {
+            owner: Owner::Entity(self.me),
+            rngs: &mut self.k.rngs,
+            sched: &mut EventOnly(&mut self.k.queue),
+        };
+        actuator.actuate(self.env, self.me, cmd, &mut fx)
+    }
+
+    /// Schedules `event` for `target` after `delay`.
+    pub fn schedule_in(&mut self, delay: SimDuration, target: Target, event: M::Event) -> EventId {
+        let at = self.now() + delay;
+        self.k
+            .schedule_at(at, target, event)
+            .expect("now + delay is never in the past")
+    }
+    /// Schedules `event` for `target` at `at`; an error if `at` is in the past.
+    pub fn schedule_at(
+        &mut self,
+        at: SimTime,
+        target: Target,
+        event: M::Event,
+    ) -> Result<EventId, ScheduleError> {
+        self.k.schedule_at(at, target, event)
+    }
+    /// Cancels a pending event or timer; false if it already fired or was cancelled.
+    pub fn cancel(&mut self, id: EventId) -> bool {
+        self.k.queue.cancel(id)
+    }
+    /// Wakes this agent with [`Input::Timer(key)`](super::Input::Timer) after `delay`.
+    pub fn set_timer(&mut self, delay: SimDuration, key: u64) -> EventId {
+        let at = self.now() + delay;
+        self.k
+            .queue
+            .push(at, Queued::Timer(self.me, key))
+            .expect("now + delay is never in the past")
+    }
+    /// Delivers `event` to this agent once `units` of thinking, priced by `cost`, are done:
+    /// the way to make a decision take simulated time.
+    pub fn decide_after(&mut self, cost: &CostModel, units: u64, event: M::Event) -> EventId {
+        self.schedule_in(cost.cost(units), Target::Entity(self.me), event)
+    }
+
+    /// This agent's random stream for `purpose`.
+    pub fn rng(&mut self, purpose: &str) -> &mut ChaCha8Rng {
+        self.k.rngs.stream(Owner::Entity(self.me), purpose)
+    }
+
+    /// Sends a message through the simulated network. Each copy is delivered later, lost, or
+    /// comes back as [`Input::Undeliverable`](super::Input::Undeliverable).
+    pub fn send(&mut self, msg: Outgoing<M::Msg>) {
+        let now = self.now();
+        let me = self.me;
+        let env: &M::Env = self.env;
+        let k = &mut *self.k;
+        let rng = k.rngs.stream(Owner::Entity(me), "comm");
+        let has_agent = &k.has_agent;
+        let routes = k.network.route(
+            me,
+            msg.to,
+            msg.protocol,
+            msg.size_bytes,
+            now,
+            &k.agent_order,
+            |id| has_agent.get(id.index()).copied().unwrap_or(false),
+            |id| M::locate(env, id),
+            rng,
+        );
+        let n = routes.len();
+        let mut body = Some(msg.body);
+        for (i, route) in routes.into_iter().enumerate() {
+            let b = if i + 1 == n {
+                body.take().expect("body used once")
+            } else {
+                body.clone().expect("body kept until last")
+            };
+            let mut env = Envelope {
+                from: me,
+                to: msg.to,
+                receiver: me,
+                protocol: msg.protocol,
+                performative: msg.performative,
+                conversation: msg.conversation,
+                sent_at: now,
+                size_bytes: msg.size_bytes,
+                body: b,
+            };
+            let pushed = match route {
+                Route::Deliver { receiver, at } => {
+                    env.receiver = receiver;
+                    k.queue.push(at, Queued::Message(env))
+                }
+                Route::Bounce { error, at } => {
+                    if let Address::Agent(r) = msg.to {
+                        env.receiver = r;
+                    }
+                    k.queue.push(at, Queued::Bounce(env, error))
+                }
+                Route::Lost { .. } => continue,
+            };
+            pushed.expect("deliveries are never in the past");
+        }
+    }
+
+    /// The network (read-only: link parameters, groups, message counts).
+    pub fn network(&self) -> &Network {
+        &self.k.network
+    }
+    /// Joins a multicast group.
+    pub fn join(&mut self, group: GroupId) {
+        self.k.network.join(group, self.me);
+    }
+    /// Leaves a multicast group.
+    pub fn leave(&mut self, group: GroupId) {
+        self.k.network.leave(group, self.me);
+    }
+
+    /// The capability register (who offers what).
+    pub fn register(&self) -> &CapabilityRegister {
+        &self.k.register
+    }
+    /// Offers a capability in the register.
+    pub fn offer(&mut self, capability: &str) -> bool {
+        self.k.register.offer(self.me, capability)
+    }
+    /// Withdraws a capability from the register.
+    pub fn withdraw(&mut self, capability: &str) -> bool {
+        self.k.register.withdraw(self.me, capability)
+    }
+
+    /// Asks the driver to stop after this event.
+    pub fn request_stop(&mut self) {
+        self.k.stop_requested = true;
+    }
+}
+
+/// Adapts the raw queue to [`Schedule`] for actuators and the environment.
+pub(crate) struct EventOnly<'q, E, Msg>(pub &'q mut crate::event::EventQueue<Queued<E, Msg>>);
+
+impl<E, Msg> Schedule<E> for EventOnly<'_, E, Msg> {
+    fn now(&self) -> SimTime {
+        self.0.now()
+    }
+    fn schedule_at(
+        &mut self,
+        at: SimTime,
+        target: Target,
+        event: E,
+    ) -> Result<EventId, ScheduleError> {
+        self.0.push(at, Queued::Event(target, event))
+    }
+    fn cancel(&mut self, id: EventId) -> bool {
+        self.0.cancel(id)
+    }
+}
