@@ -32,7 +32,7 @@ enum Ev {
 /// The street graph: node positions in metres.
 fn streets() -> GraphStorage<(f64, f64), ()> {
     let mut g = GraphStorage::default();
-    let pts = [
+    let pts: [(f64, f64); 5] = [
         (0.0, 0.0),
         (100.0, 0.0),
         (100.0, 100.0),
@@ -42,7 +42,7 @@ fn streets() -> GraphStorage<(f64, f64), ()> {
     let n: Vec<NodeId> = pts.iter().map(|&p| g.add_node(p)).collect();
     for (a, b) in [(0, 1), (1, 2), (2, 3), (3, 0), (1, 4), (4, 2)] {
         let (pa, pb) = (pts[a], pts[b]);
-        let len = ((pa.0 - pb.0) as f64).hypot(pa.1 - pb.1);
+        let len = (pa.0 - pb.0).hypot(pa.1 - pb.1);
         g.add_undirected_edge(n[a], n[b], len, ());
     }
     g
@@ -326,17 +326,16 @@ fn run_both(end: SimTime) -> (Vec<(SimTime, NodeId)>, Vec<(SimTime, NodeId)>) {
         c.events_fired(),
         c.trace_hash()
     );
-    let logs = (
+    (
         d.agent(car).map(|a| a.log.clone()).unwrap_or_default(),
         c.agent(car2).map(|a| a.log.clone()).unwrap_or_default(),
-    );
-    logs
+    )
 }
 
 fn main() {
     let (ld, lc) = run_both(SimTime::from_secs(120));
     println!("node  discrete_s  continuous_s");
-    for ((td, nd), (tc, nc)) in ld.iter().zip(&lc) {
+    for ((td, nd), (tc, _)) in ld.iter().zip(&lc) {
         println!(
             "{:>4}  {:>10.1}  {:>12.1}",
             nd.0,

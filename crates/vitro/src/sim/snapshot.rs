@@ -11,6 +11,13 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::io::{Read, Write};
 
+/// Everything a snapshot holds, in order.
+type State<M> = (
+    <M as Model>::Env,
+    Vec<Option<<M as Model>::Agent>>,
+    Kernel<<M as Model>::Event, <M as Model>::Msg>,
+);
+
 const MAGIC: &[u8; 8] = b"VITROSN1";
 
 /// Why a snapshot could not be written or read.
@@ -53,8 +60,7 @@ where
         let len = u64::from_le_bytes(head[8..].try_into().expect("8 bytes"));
         let mut bytes = Vec::new();
         r.take(len).read_to_end(&mut bytes)?;
-        let (env, agents, k): (M::Env, Vec<Option<M::Agent>>, Kernel<M::Event, M::Msg>) =
-            postcard::from_bytes(&bytes)?;
+        let (env, agents, k): State<M> = postcard::from_bytes(&bytes)?;
         Ok(Simulation::from_parts(env, agents, k))
     }
 }
