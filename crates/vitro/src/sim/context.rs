@@ -32,6 +32,47 @@ impl CostModel {
 
 /// What an agent may do while it handles an input. It holds no way to reach the environment
 /// but [`sense`](Self::sense) and [`act`](Self::act).
+///
+/// The compiler enforces that rule: an agent that tries to touch a storage directly does not
+/// build.
+///
+/// ```compile_fail,E0616
+/// use vitro::prelude::*;
+/// struct World { fuel: EntityStorage<f64> }
+/// struct M;
+/// impl Model for M { type Env = World; type Event = (); type Msg = (); type Agent = Cheat; }
+/// struct Cheat;
+/// impl Agent<M> for Cheat {
+///     fn handle(&mut self, _: Input<'_, M>, cx: &mut Context<'_, M>) {
+///         cx.env.fuel.insert(cx.me(), 1e9); // error[E0616]: field `env` is private
+///     }
+/// }
+/// ```
+///
+/// The same agent written through an actuator builds:
+///
+/// ```
+/// use vitro::prelude::*;
+/// struct World { fuel: EntityStorage<f64> }
+/// struct Refuel;
+/// impl Actuator<World, ()> for Refuel {
+///     type Command = f64;
+///     type Error = std::convert::Infallible;
+///     fn actuate(&self, w: &mut World, me: EntityId, litres: f64, _: &mut Effects<()>)
+///         -> Result<(), Self::Error> {
+///         w.fuel.insert(me, litres);
+///         Ok(())
+///     }
+/// }
+/// struct M;
+/// impl Model for M { type Env = World; type Event = (); type Msg = (); type Agent = Honest; }
+/// struct Honest;
+/// impl Agent<M> for Honest {
+///     fn handle(&mut self, _: Input<'_, M>, cx: &mut Context<'_, M>) {
+///         let Ok(()) = cx.act(&Refuel, 40.0);
+///     }
+/// }
+/// ```
 pub struct Context<'a, M: Model> {
     pub(crate) me: EntityId,
     pub(crate) env: &'a mut M::Env,
