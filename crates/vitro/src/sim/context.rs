@@ -214,13 +214,13 @@ impl<'a, M: Model> Context<'a, M> {
             let pushed = match route {
                 Route::Deliver { receiver, at } => {
                     env.receiver = receiver;
-                    k.queue.push(at, Queued::Message(env))
+                    k.queue.push(at, Queued::Message(Box::new(env)))
                 }
                 Route::Bounce { error, at } => {
                     if let Address::Agent(r) = msg.to {
                         env.receiver = r;
                     }
-                    k.queue.push(at, Queued::Bounce(env, error))
+                    k.queue.push(at, Queued::Bounce(Box::new((env, error))))
                 }
                 Route::Lost { .. } => continue,
             };

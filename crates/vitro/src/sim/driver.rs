@@ -243,7 +243,8 @@ impl<M: Model> Simulation<M> {
                 self.k.network.count_received(e.receiver, e.protocol);
                 (Target::Entity(e.receiver), Input::Message(e))
             }
-            Queued::Bounce(e, err) => {
+            Queued::Bounce(b) => {
+                let (e, err) = &**b;
                 tr.write_u64(2 << 62);
                 tr.digest(e);
                 tr.digest(err);

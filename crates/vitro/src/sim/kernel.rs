@@ -8,12 +8,13 @@ use crate::time::SimTime;
 use crate::trace::TraceHasher;
 use serde::{Deserialize, Serialize};
 
-/// What the queue holds.
+/// What the queue holds. Messages are boxed so that plain events stay small (a queue slot is
+/// as large as its largest variant); typed events are stored inline.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub(crate) enum Queued<E, Msg> {
     Event(Target, E),
-    Message(Envelope<Msg>),
-    Bounce(Envelope<Msg>, DeliveryError),
+    Message(Box<Envelope<Msg>>),
+    Bounce(Box<(Envelope<Msg>, DeliveryError)>),
     Timer(EntityId, u64),
 }
 
