@@ -191,10 +191,10 @@ impl Patroller {
             }
         }
         self.claims.insert(from, (*node, *eta));
-        if let Some((mine, my_eta)) = self.goal
-            && mine == *node
-            && (*eta, from) < (my_eta, cx.me())
-        {
+        let beaten = self
+            .goal
+            .is_some_and(|(mine, my_eta)| mine == *node && (*eta, from) < (my_eta, cx.me()));
+        if beaten {
             self.goal = None;
             self.stats.yielded += 1;
             self.think(cx);

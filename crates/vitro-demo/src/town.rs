@@ -126,11 +126,12 @@ pub fn distances<N, E>(g: &GraphStorage<N, E>, sources: &[(NodeId, f64)]) -> Vec
     let mut dist = vec![f64::INFINITY; g.node_count()];
     let mut heap = BinaryHeap::new();
     for &(s, d0) in sources {
-        if let Some(d) = dist.get_mut(s.0 as usize)
-            && d0 < *d
-        {
-            *d = d0;
-            heap.push(Frontier(d0, s.0));
+        match dist.get_mut(s.0 as usize) {
+            Some(d) if d0 < *d => {
+                *d = d0;
+                heap.push(Frontier(d0, s.0));
+            }
+            _ => {}
         }
     }
     while let Some(Frontier(d, u)) = heap.pop() {
