@@ -129,81 +129,79 @@ impl Town {
         self.visits.set(node, log);
     }
 
-    /// Advances the motion of `car` (the handler of [`Event::Tick`]).
+    /// Advances the motion of `car` (the handler of [`Event::Tick`]): one write to its row.
     pub(crate) fn on_tick(&mut self, car: EntityId, fx: &mut Effects<'_, Event>) {
         let now = fx.now();
         let Some(c) = self.cars.get(car) else { return };
-        let (Some(next), target) = (c.next, c.target_m) else {
+        let Some(next) = c.next else {
             self.cars.update(car, |c| c.moving = false);
             return;
         };
-        let arrived = target >= c.edge_m;
-        if arrived {
-            let after = c.route.last().copied();
-            let edge_m = after.and_then(|a| self.streets.edge_length(next, a));
-            let Some(j) = self.streets.node(next).copied() else {
-                return;
-            };
-            self.cars.update(car, |c| {
+        let (Some(from), Some(to)) = (self.streets.node(c.node), self.streets.node(next)) else {
+            return;
+        };
+        let (from, to) = (*from, *to);
+        let arrived = c.target_m >= c.edge_m;
+        // The street after `next`, looked up before the write.
+        let after = if arrived {
+            c.route.last().copied()
+        } else {
+            None
+        };
+        let after_m = after.and_then(|n| self.streets.edge_length(next, n));
+        let mut wake = None;
+        self.cars.update(car, |c| {
+            if arrived {
                 c.node = next;
                 c.route.pop();
                 c.next = after;
-                c.edge_m = edge_m.unwrap_or(0.0);
+                c.edge_m = after_m.unwrap_or(0.0);
                 c.progress_m = 0.0;
-                c.target_m = 0.0;
-                (c.x, c.y) = (j.x, j.y);
-            });
-            self.record_visit(next, now);
-            fx.schedule_in(
-                SimDuration::ZERO,
-                Target::Entity(car),
-                Event::AtNode {
-                    node: next,
-                    goal: after.is_none(),
-                },
-            );
-        } else {
-            let (a, b) = (self.streets.node(c.node), self.streets.node(next));
-            let (Some(a), Some(b)) = (a.copied(), b.copied()) else {
-                return;
-            };
-            self.cars.update(car, |c| {
-                c.progress_m = target;
+                (c.x, c.y) = (to.x, to.y);
+            } else {
+                c.progress_m = c.target_m;
                 let f = if c.edge_m > 0.0 {
-                    target / c.edge_m
+                    c.progress_m / c.edge_m
                 } else {
                     1.0
                 };
-                c.x = a.x + (b.x - a.x) * f;
-                c.y = a.y + (b.y - a.y) * f;
-            });
-        }
-        self.schedule_motion(car, fx);
-    }
-
-    /// Plans the next motion update of a car that has a street ahead: a full tick, or less if
-    /// the car reaches the end of the street first (so junctions are reached exactly).
-    fn schedule_motion(&mut self, car: EntityId, fx: &mut Effects<'_, Event>) {
-        let Some(c) = self.cars.get(car) else { return };
-        if c.next.is_none() {
-            self.cars.update(car, |c| c.moving = false);
-            return;
-        }
-        let remaining = c.edge_m - c.progress_m;
-        let step_m = c.speed_mps * c.tick.as_secs_f64();
-        let (delay, target) = if remaining <= step_m {
-            (
-                SimDuration::from_secs_f64(remaining / c.speed_mps),
-                c.edge_m,
-            )
-        } else {
-            (c.tick, c.progress_m + step_m)
-        };
-        self.cars.update(car, |c| {
-            c.target_m = target;
-            c.moving = true;
+                c.x = from.x + (to.x - from.x) * f;
+                c.y = from.y + (to.y - from.y) * f;
+            }
+            wake = c.plan_step();
         });
-        fx.schedule_in(delay, Target::Env, Event::Tick(car));
+        if arrived {
+            self.record_visit(next, now);
+            let goal = after.is_none();
+            let at_node = Event::AtNode { node: next, goal };
+            fx.schedule_in(SimDuration::ZERO, Target::Entity(car), at_node);
+        }
+        if let Some(delay) = wake {
+            fx.schedule_in(delay, Target::Env, Event::Tick(car));
+        }
+    }
+}
+
+impl Car {
+    /// Plans the next motion update of a car with a street ahead: a full tick, or less if it
+    /// reaches the end of the street first (so junctions are reached exactly). Returns the
+    /// delay to the update, `None` when the car has stopped.
+    fn plan_step(&mut self) -> Option<SimDuration> {
+        if self.next.is_none() {
+            self.moving = false;
+            return None;
+        }
+        let remaining = self.edge_m - self.progress_m;
+        let step_m = self.speed_mps * self.tick.as_secs_f64();
+        let delay = if remaining <= step_m {
+            self.target_m = self.edge_m;
+            SimDuration::from_secs_f64(remaining / self.speed_mps)
+        } else {
+            self.target_m = self.progress_m + step_m;
+            self.tick
+        };
+        self.moving = true;
+        Some(delay)
     }
 }
 
@@ -300,7 +298,7 @@ impl Actuator<Town, Event> for GoToNode {
             .streets
             .shortest_path(from, goal)
             .ok_or(GoToError::Unreachable(goal))?;
-        let (parked, moving) = (c.next.is_none(), c.moving);
+        let parked = c.next.is_none();
         if parked && path.len() == 1 {
             // Already there: a visit now.
             w.record_visit(goal, fx.now());
@@ -329,6 +327,7 @@ impl Actuator<Town, Event> for GoToNode {
             }
             None => None,
         };
+        let mut wake = None;
         w.cars.update(me, |c| {
             c.route = route;
             if let Some((n, len)) = first {
@@ -337,9 +336,12 @@ impl Actuator<Town, Event> for GoToNode {
                 c.progress_m = 0.0;
                 c.target_m = 0.0;
             }
+            if !c.moving {
+                wake = c.plan_step();
+            }
         });
-        if !moving {
-            w.schedule_motion(me, fx);
+        if let Some(delay) = wake {
+            fx.schedule_in(delay, Target::Env, Event::Tick(me));
         }
         Ok(())
     }
