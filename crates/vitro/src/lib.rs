@@ -3,7 +3,8 @@
 //! The toolkit core: simulated [`time`], the [`event`] queue, [`entity`] identities and the
 //! capability register, the [`env`]ironment (storages read by sensors and written by
 //! actuators), simulated [`comm`]unication, deterministic [`rng`] streams and [`trace`]
-//! hashes, and the [`sim`]ulation driver that ties them together.
+//! hashes, and the [`sim`]ulation driver that ties them together. Interaction [`protocol`]s
+//! (request/inform, query, subscribe/notify, contract net, token ring) sit on top.
 //!
 //! Layers, lowest first (a module only imports those below it):
 //! `time`, `trace` → `entity`, `rng` → `event` → `env`, `comm` → `sim` → `protocol`.
@@ -67,6 +68,7 @@ pub mod comm;
 pub mod entity;
 pub mod env;
 pub mod event;
+pub mod protocol;
 pub mod rng;
 pub mod sim;
 pub mod time;

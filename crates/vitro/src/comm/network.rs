@@ -171,6 +171,21 @@ pub enum DeliveryError {
     NoPosition(EntityId),
 }
 
+impl DeliveryError {
+    /// The agent the returned copy was meant for, where the error names it (not for
+    /// [`EmptyGroup`](Self::EmptyGroup), nor for a [`NoPosition`](Self::NoPosition) of the
+    /// sender itself, which it cannot tell apart).
+    ///
+    /// Useful for multicast and broadcast bounces, whose envelope is addressed to the group.
+    pub fn receiver(&self) -> Option<EntityId> {
+        match *self {
+            DeliveryError::UnknownReceiver(r) => Some(r),
+            DeliveryError::OutOfRange { receiver, .. } => Some(receiver),
+            DeliveryError::EmptyGroup(_) | DeliveryError::NoPosition(_) => None,
+        }
+    }
+}
+
 /// Parameters of a link (or of the default channel).
 #[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LinkParams {
@@ -314,6 +329,12 @@ impl Network {
     /// `is_agent` says whether an entity has an agent to receive; `agents` lists all agents in
     /// registration order (for broadcast); `locate` is the position sensor for range limits;
     /// `rng` is the sender's channel stream.
+    ///
+    /// Every copy is counted once as `sent` for (sender, protocol), then as `lost` or `bounced`
+    /// if so (its `received` is counted on arrival, by [`count_received`](Self::count_received)).
+    /// A multicast to a group with no member but the sender is one copy, bounced with
+    /// [`DeliveryError::EmptyGroup`]; a broadcast with no other agent sends nothing.
+    /// Multicast copies go out in member id order, broadcast copies in registration order.
     #[allow(clippy::too_many_arguments)]
     pub fn route<R: Rng>(
         &mut self,
@@ -335,8 +356,12 @@ impl Network {
         let mut routes = Vec::with_capacity(receivers.len().max(1));
         if receivers.is_empty() {
             if let Address::Group(g) = to {
+                // One copy went out and came back: counted as sent and bounced, so that
+                // `sent = received by others + lost + bounced` always holds.
                 let at = now + self.default.delay;
-                self.counts.entry((from, protocol)).or_default().bounced += 1;
+                let c = self.counts.entry((from, protocol)).or_default();
+                c.sent += 1;
+                c.bounced += 1;
                 routes.push(Route::Bounce {
                     error: DeliveryError::EmptyGroup(g),
                     at,
@@ -353,7 +378,10 @@ impl Network {
         let start = now.max(self.tx_busy_until.get(&from).copied().unwrap_or(now));
         let tx_end = match tx_link.bandwidth_bps {
             Some(bps) if bps > 0.0 => {
-                let end = start + SimDuration::from_secs_f64(size_bytes as f64 * 8.0 / bps);
+                // Rounded up to the next nanosecond: n messages never take less than
+                // n · size · 8 / bandwidth, however the division rounds.
+                let nanos = (size_bytes as f64 * 8.0 * 1e9 / bps).ceil();
+                let end = start + SimDuration::from_nanos(nanos as u64);
                 self.tx_busy_until.insert(from, end);
                 end
             }
