@@ -1,7 +1,7 @@
 //! # Vitro: in vitro multi-agent simulation
 //!
 //! The toolkit core: simulated [`time`], the [`event`] queue, [`entity`] identities and the
-//! capability register, the [`env`]ironment (storages read by sensors and written by
+//! capability register, the [environment](mod@env) (storages read by sensors and written by
 //! actuators), simulated [`comm`]unication, deterministic [`rng`] streams and [`trace`]
 //! hashes, and the [`sim`]ulation driver that ties them together. Interaction [`protocol`]s
 //! (request/inform, query, subscribe/notify, contract net, token ring) sit on top.

@@ -245,6 +245,8 @@ pub enum Route {
     },
     /// Returned to the sender at `at`.
     Bounce {
+        /// The receiver this copy was meant for (`None` for an empty group).
+        receiver: Option<EntityId>,
         /// Why.
         error: DeliveryError,
         /// When the sender learns it.
@@ -363,6 +365,7 @@ impl Network {
                 c.sent += 1;
                 c.bounced += 1;
                 routes.push(Route::Bounce {
+                    receiver: None,
                     error: DeliveryError::EmptyGroup(g),
                     at,
                 });
@@ -393,6 +396,7 @@ impl Network {
             let c = self.counts.entry((from, protocol)).or_default();
             c.sent += 1;
             let bounce = |error| Route::Bounce {
+                receiver: Some(r),
                 error,
                 at: now + link.delay,
             };

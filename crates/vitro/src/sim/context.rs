@@ -2,7 +2,7 @@
 
 use super::Model;
 use super::kernel::{Kernel, Queued};
-use crate::comm::{Address, Envelope, GroupId, Network, Outgoing, Route};
+use crate::comm::{Envelope, GroupId, Network, Outgoing, Route};
 use crate::entity::{CapabilityRegister, EntityId};
 use crate::env::{Actuator, Effects, Probe, Sensor};
 use crate::event::{EventId, Schedule, ScheduleError, Target};
@@ -216,10 +216,13 @@ impl<'a, M: Model> Context<'a, M> {
                     env.receiver = receiver;
                     k.queue.push(at, Queued::Message(Box::new(env)))
                 }
-                Route::Bounce { error, at } => {
-                    if let Address::Agent(r) = msg.to {
-                        env.receiver = r;
-                    }
+                Route::Bounce {
+                    receiver,
+                    error,
+                    at,
+                } => {
+                    // The copy's intended receiver; the sender itself for an empty group.
+                    env.receiver = receiver.unwrap_or(me);
                     k.queue.push(at, Queued::Bounce(Box::new((env, error))))
                 }
                 Route::Lost { .. } => continue,
