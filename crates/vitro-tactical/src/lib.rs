@@ -1,0 +1,11 @@
+//! # vitro-tactical: the tactical world
+//!
+//! A real town from OpenStreetMap ([`map`]) set on a real elevation model ([`terrain`]) as a
+//! [`site`], line of sight against both ([`los`]), terrain [`viewshed`]s, and the sensors
+//! that use them ([`sensor`]) over a tactical [`world`].
+
+pub mod geo;
+pub mod los;
+pub mod map;
+pub mod site;
+pub mod terrain;
