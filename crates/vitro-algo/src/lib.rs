@@ -1,0 +1,5 @@
+//! Domain-independent algorithms for Vitro: classical planning and the algorithms the
+//! tactical simulator builds on.
+
+pub mod cops;
+pub mod graph;
