@@ -3,3 +3,4 @@
 
 pub mod cops;
 pub mod graph;
+pub mod planning;
