@@ -9,3 +9,4 @@ pub mod los;
 pub mod map;
 pub mod site;
 pub mod terrain;
+pub mod viewshed;

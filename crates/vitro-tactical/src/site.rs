@@ -3,6 +3,8 @@
 //! World coordinates are the terrain's local metres (`x` east, `y` north from the grid's
 //! lower-left corner, `z` up). A town point `p` (map metres) sits at `p + offset` in the world.
 //!
+//! - "Ground" is the ground mesh ([`Terrain::surface_height`]), the surface that line of sight
+//!   and physics see, not the smoother bilinear [`Terrain::height`].
 //! - Buildings stand on the ground: their base is the lowest ground height under their
 //!   footprint's vertices (so no wall floats above a slope), their roof is base + height.
 //! - Streets follow the ground, sampled at least every half cell.
@@ -100,7 +102,7 @@ impl Site {
             return Err(SiteError::OffTerrain { offset, ground });
         }
         let shift = |p: P2| [p[0] + offset[0], p[1] + offset[1]];
-        let ground_at = |p: P2| terrain.height(p[0], p[1]).unwrap_or(0.0);
+        let ground_at = |p: P2| terrain.surface_height(p[0], p[1]).unwrap_or(0.0);
 
         let buildings: Vec<PlacedBuilding> = map
             .buildings
@@ -178,9 +180,10 @@ impl Site {
     pub fn to_town(&self, world: P2) -> P2 {
         [world[0] - self.offset[0], world[1] - self.offset[1]]
     }
-    /// Ground height at world (x, y); `None` off the terrain.
+    /// Ground height at world (x, y) on the ground mesh (the surface line of sight and
+    /// physics use); `None` off the terrain.
     pub fn ground(&self, world: P2) -> Option<f64> {
-        self.terrain.height(world[0], world[1])
+        self.terrain.surface_height(world[0], world[1])
     }
     /// The world point on the ground under a town point (height 0 off the terrain).
     pub fn on_ground(&self, town: P2) -> [f64; 3] {

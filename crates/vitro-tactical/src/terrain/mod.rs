@@ -171,6 +171,37 @@ impl Terrain {
         )
     }
 
+    /// Ground height on the [`mesh`](Self::mesh) itself (piecewise linear over its
+    /// triangles): what line of sight and physics see. Differs from the bilinear
+    /// [`height`](Self::height) by at most [`mesh_deviation`](Self::mesh_deviation).
+    pub fn surface_height(&self, x: f64, y: f64) -> Option<f64> {
+        let g = &self.grid;
+        let u = x / g.cellsize - 0.5;
+        let v = y / g.cellsize - 0.5;
+        let (umax, vmax) = ((g.ncols - 1) as f64, (g.nrows - 1) as f64);
+        if !(0.0..=umax).contains(&u) || !(0.0..=vmax).contains(&v) {
+            return None;
+        }
+        let i = (u.floor() as usize).min(g.ncols - 2);
+        let j = (v.floor() as usize).min(g.nrows - 2);
+        let (fx, fy) = (u - i as f64, v - j as f64);
+        let a = g.get(i, j)?;
+        let b = g.get(i + 1, j)?;
+        let c = g.get(i + 1, j + 1)?;
+        let d = g.get(i, j + 1)?;
+        let m2 = (a + b + c + d) / 2.0;
+        // The fan triangle holding the point, each written as edge ramp + rise to the middle.
+        Some(if fy <= fx && fy <= 1.0 - fx {
+            a + (b - a) * fx + (m2 - a - b) * fy
+        } else if fy >= fx && fy >= 1.0 - fx {
+            d + (c - d) * fx + (m2 - c - d) * (1.0 - fy)
+        } else if fx >= fy {
+            b + (c - b) * fy + (m2 - b - c) * (1.0 - fx)
+        } else {
+            a + (d - a) * fy + (m2 - a - d) * fx
+        })
+    }
+
     /// The ground mesh: for every cell square between four valid centres, four triangles
     /// fanned around a middle vertex at the bilinear height (the mean of the corners).
     ///
