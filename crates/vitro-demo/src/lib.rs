@@ -75,7 +75,7 @@ impl Model for Demo {
         }
     }
 
-    fn locate(env: &Town, who: EntityId) -> Option<[f64; 3]> {
+    fn locate(env: &Town, who: EntityId, _now: SimTime) -> Option<[f64; 3]> {
         env.position(who).map(|(x, y)| [x, y, 0.0])
     }
 

@@ -45,7 +45,7 @@ impl Model for Net {
     type Event = Cmd;
     type Msg = u64;
     type Agent = Node;
-    fn locate(env: &World, who: EntityId) -> Option<[f64; 3]> {
+    fn locate(env: &World, who: EntityId, _now: SimTime) -> Option<[f64; 3]> {
         env.pos.get(&who).copied()
     }
 }

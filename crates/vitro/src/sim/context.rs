@@ -189,7 +189,7 @@ impl<'a, M: Model> Context<'a, M> {
             now,
             &k.agent_order,
             |id| has_agent.get(id.index()).copied().unwrap_or(false),
-            |id| M::locate(env, id),
+            |id| M::locate(env, id, now),
             rng,
         );
         let n = routes.len();

@@ -19,6 +19,7 @@ pub use snapshot::SnapshotError;
 use crate::comm::{DeliveryError, Envelope};
 use crate::entity::EntityId;
 use crate::env::Effects;
+use crate::time::SimTime;
 use serde::Serialize;
 
 /// The types of one simulation model, and its environment's behaviour.
@@ -38,9 +39,10 @@ pub trait Model: Sized + 'static {
         let _ = (env, event, fx);
     }
 
-    /// The position sensor used by range-limited channels. `None` by default (no position).
-    fn locate(env: &Self::Env, who: EntityId) -> Option<[f64; 3]> {
-        let _ = (env, who);
+    /// The position sensor used by range-limited channels: where `who` is at `now` (models
+    /// that move bodies by events may interpolate). `None` by default (no position).
+    fn locate(env: &Self::Env, who: EntityId, now: SimTime) -> Option<[f64; 3]> {
+        let _ = (env, who, now);
         None
     }
 
