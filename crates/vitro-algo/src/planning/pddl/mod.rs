@@ -21,9 +21,11 @@
 //! # Ok::<(), vitro_algo::planning::pddl::ParseError>(())
 //! ```
 
+mod domain;
 mod error;
 mod lexer;
 mod parser;
+mod problem;
 
 pub use error::{ParseError, ParseErrorKind};
 pub use parser::{parse_domain, parse_problem};
