@@ -7,6 +7,8 @@
 pub mod geo;
 pub mod los;
 pub mod map;
+pub mod sensor;
 pub mod site;
 pub mod terrain;
 pub mod viewshed;
+pub mod world;

@@ -224,6 +224,44 @@ impl TownMap {
         })
     }
 
+    /// A map holding only `buildings` (local metres), with no streets, bridges or water: for
+    /// hand-made scenes. Its projection is centred on (0°, 0°).
+    pub fn from_buildings(buildings: Vec<Building>) -> Self {
+        let mut extent = [0.0f64; 4];
+        for (i, b) in buildings.iter().enumerate() {
+            let bb = b.footprint.bbox();
+            if i == 0 {
+                extent = bb;
+            }
+            extent = [
+                extent[0].min(bb[0]),
+                extent[1].min(bb[1]),
+                extent[2].max(bb[2]),
+                extent[3].max(bb[3]),
+            ];
+        }
+        let projection = LocalProjection::new(0.0, 0.0);
+        let [min_lat, min_lon] = projection.unproject([extent[0], extent[1]]);
+        let [max_lat, max_lon] = projection.unproject([extent[2], extent[3]]);
+        let raw = RawOsm::default();
+        TownMap {
+            bbox: GeoBox {
+                min_lat,
+                min_lon,
+                max_lat,
+                max_lon,
+            },
+            projection,
+            extent,
+            counts: ElementCounts::default(),
+            buildings,
+            water: Vec::new(),
+            bridges: Vec::new(),
+            drive: StreetGraph::build(&raw, &projection, Mode::Drive),
+            walk: StreetGraph::build(&raw, &projection, Mode::Walk),
+        }
+    }
+
     /// The street graph of `mode`.
     pub fn streets(&self, mode: Mode) -> &StreetGraph {
         match mode {

@@ -1,0 +1,234 @@
+//! Sensors over the tactical [`World`]: GPS, proximity vision, friend-or-foe vision.
+//!
+//! Randomness comes from the sensing entity's own streams (`probe.rng(..)`): `"gps"` for GPS
+//! noise, `"fof"` for detection and identification draws. Candidates are examined in entity-id
+//! order, so a reading depends only on the world and the stream, never on a hasher.
+
+use crate::world::{Body, Side, World};
+use rand::Rng;
+use serde::{Deserialize, Serialize};
+use vitro::entity::EntityId;
+use vitro::env::{Probe, Sensor};
+
+fn dist3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    libm::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+}
+
+/// A standard normal draw (Box–Muller through `libm`, identical on every machine).
+fn normal(rng: &mut impl Rng) -> f64 {
+    let u1 = 1.0 - rng.random::<f64>(); // (0, 1]
+    let u2 = rng.random::<f64>();
+    libm::sqrt(-2.0 * libm::log(u1)) * libm::cos(std::f64::consts::TAU * u2)
+}
+
+/// GPS: the entity's own position, with optional Gaussian noise.
+///
+/// ```
+/// use vitro_tactical::sensor::Gps;
+/// let exact = Gps::default();
+/// assert_eq!(exact.sigma, 0.0);
+/// ```
+#[derive(Copy, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Gps {
+    /// Standard deviation of the error on each axis, metres (0: exact).
+    pub sigma: f64,
+}
+
+impl Sensor<World> for Gps {
+    /// The measured position; `None` if the entity has no body.
+    type Reading = Option<[f64; 3]>;
+    fn read(&self, w: &World, me: EntityId, probe: &mut Probe<'_>) -> Self::Reading {
+        let mut p = w.body(me)?.pos;
+        if self.sigma > 0.0 {
+            let rng = probe.rng("gps");
+            for c in &mut p {
+                *c += self.sigma * normal(rng);
+            }
+        }
+        Some(p)
+    }
+}
+
+/// An entity within range (proximity vision).
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Contact {
+    /// Who.
+    pub id: EntityId,
+    /// Where.
+    pub pos: [f64; 3],
+    /// How far, metres.
+    pub distance: f64,
+}
+
+/// Proximity vision: every other entity within `range` metres (3D), nearest first (ties by
+/// id), regardless of walls. A linear scan over the bodies.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ProximityVision {
+    /// Range, metres.
+    pub range: f64,
+}
+
+impl Sensor<World> for ProximityVision {
+    type Reading = Vec<Contact>;
+    fn read(&self, w: &World, me: EntityId, _: &mut Probe<'_>) -> Vec<Contact> {
+        let Some(mine) = w.body(me) else {
+            return Vec::new();
+        };
+        let mut out: Vec<Contact> = w
+            .bodies
+            .iter()
+            .filter(|(id, _)| *id != me)
+            .map(|(id, b)| Contact {
+                id,
+                pos: b.pos,
+                distance: dist3(mine.pos, b.pos),
+            })
+            .filter(|c| c.distance <= self.range)
+            .collect();
+        out.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.id.cmp(&b.id)));
+        out
+    }
+}
+
+/// What friend-or-foe vision reports about one entity it detected.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Sighting {
+    /// Who was seen.
+    pub id: EntityId,
+    /// Where (true position of its base).
+    pub pos: [f64; 3],
+    /// How far, metres.
+    pub distance: f64,
+    /// Direction, radians counter-clockwise from east.
+    pub bearing: f64,
+    /// The side the observer believes it is on (may be wrong).
+    pub seen_as: Side,
+}
+
+/// Friend-or-foe vision: range, field of view, line of sight, a detection probability that
+/// falls with distance, and identification errors.
+///
+/// A body is examined if it is within `range` (3D), within `half_fov` of the observer's
+/// heading (horizontal angle), and its centre is in line of sight from the observer's eye.
+/// It is then detected with probability
+///
+/// `p(d) = p0 · (1 − d / range)^k`
+///
+/// (`k = 0`: constant `p0`; `k = 1`: linear fall to 0 at the range; larger `k` falls faster).
+/// A detected body is identified correctly with probability `1 − misidentification`;
+/// otherwise it is reported as one of the two other sides, each equally likely.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FriendFoeVision {
+    /// Range, metres.
+    pub range: f64,
+    /// Half the field of view, radians (π or more: all around).
+    pub half_fov: f64,
+    /// Detection probability at distance 0.
+    pub p0: f64,
+    /// Fall-off exponent of the detection curve.
+    pub k: f64,
+    /// Probability of reporting the wrong side.
+    pub misidentification: f64,
+}
+
+impl Default for FriendFoeVision {
+    /// 300 m, 120° field of view, p0 = 0.95, k = 1, 5 % misidentification.
+    fn default() -> Self {
+        FriendFoeVision {
+            range: 300.0,
+            half_fov: 60f64.to_radians(),
+            p0: 0.95,
+            k: 1.0,
+            misidentification: 0.05,
+        }
+    }
+}
+
+/// The angle `a` brought into `(-π, π]`.
+fn wrap(a: f64) -> f64 {
+    let t = std::f64::consts::TAU;
+    let r = a - t * libm::floor(a / t);
+    if r > std::f64::consts::PI { r - t } else { r }
+}
+
+impl FriendFoeVision {
+    /// Detection probability at distance `d` (0 beyond the range).
+    pub fn detection_probability(&self, d: f64) -> f64 {
+        if !(0.0..=self.range).contains(&d) || self.range <= 0.0 {
+            return 0.0;
+        }
+        (self.p0 * libm::pow(1.0 - d / self.range, self.k)).clamp(0.0, 1.0)
+    }
+
+    /// True if `target` is in range, in the field of view and in line of sight of `me`
+    /// (no randomness).
+    pub fn can_see(&self, w: &World, me: &Body, target: &Body) -> bool {
+        let d = dist3(me.pos, target.pos);
+        if d > self.range {
+            return false;
+        }
+        let dx = target.pos[0] - me.pos[0];
+        let dy = target.pos[1] - me.pos[1];
+        let in_fov = self.half_fov >= std::f64::consts::PI
+            || (dx == 0.0 && dy == 0.0)
+            || wrap(libm::atan2(dy, dx) - me.heading).abs() <= self.half_fov;
+        in_fov && w.site.los.visible(me.eye(), target.centre())
+    }
+}
+
+impl Sensor<World> for FriendFoeVision {
+    type Reading = Vec<Sighting>;
+    fn read(&self, w: &World, me: EntityId, probe: &mut Probe<'_>) -> Vec<Sighting> {
+        let Some(mine) = w.body(me).copied() else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for (id, b) in w.bodies.iter() {
+            if id == me || !self.can_see(w, &mine, b) {
+                continue;
+            }
+            let d = dist3(mine.pos, b.pos);
+            let rng = probe.rng("fof");
+            if rng.random::<f64>() >= self.detection_probability(d) {
+                continue;
+            }
+            let seen_as = if rng.random::<f64>() < self.misidentification {
+                let others: Vec<Side> = Side::ALL.into_iter().filter(|s| *s != b.side).collect();
+                others[rng.random_range(0..others.len())]
+            } else {
+                b.side
+            };
+            out.push(Sighting {
+                id,
+                pos: b.pos,
+                distance: d,
+                bearing: libm::atan2(b.pos[1] - mine.pos[1], b.pos[0] - mine.pos[0]),
+                seen_as,
+            });
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn angles_wrap_and_curve_shape() {
+        assert!((wrap(3.0 * std::f64::consts::PI) - std::f64::consts::PI).abs() < 1e-12);
+        assert!((wrap(-0.5) + 0.5).abs() < 1e-12);
+        let v = FriendFoeVision {
+            range: 100.0,
+            half_fov: 1.0,
+            p0: 0.8,
+            k: 2.0,
+            misidentification: 0.0,
+        };
+        assert_eq!(v.detection_probability(0.0), 0.8);
+        assert!((v.detection_probability(50.0) - 0.2).abs() < 1e-12);
+        assert_eq!(v.detection_probability(100.0), 0.0);
+        assert_eq!(v.detection_probability(101.0), 0.0);
+    }
+}
