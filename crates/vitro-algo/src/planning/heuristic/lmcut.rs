@@ -39,6 +39,13 @@ enum Zone {
 #[derive(Debug, Clone)]
 pub struct LmCut {
     relaxed: RelaxedTask,
+    work: Work,
+}
+
+/// Per-evaluation scratch data of LM-cut (kept apart from the relaxed task so that the
+/// loops can read one while writing the other).
+#[derive(Debug, Clone)]
+struct Work {
     /// Current (reduced) operator costs.
     cost: Vec<u32>,
     fact_cost: Vec<u32>,
@@ -47,6 +54,11 @@ pub struct LmCut {
     supporter: Vec<u32>,
     /// h^max cost of the supporter when it was last set.
     supporter_cost: Vec<u32>,
+    /// Per fact, the first operator it supports (INF: none); the operators a fact
+    /// supports form a doubly linked list through `next` and `prev`.
+    head: Vec<u32>,
+    next: Vec<u32>,
+    prev: Vec<u32>,
     zone: Vec<Zone>,
     queue: BucketQueue,
     stack: Vec<u32>,
@@ -59,21 +71,54 @@ impl LmCut {
     pub fn new(task: &Task) -> Self {
         let relaxed = RelaxedTask::new(task);
         let (nf, no) = (relaxed.num_facts, relaxed.num_ops());
-        LmCut {
+        let work = Work {
             cost: relaxed.cost.clone(),
             fact_cost: vec![INF; nf],
             unsatisfied: vec![0; no],
             supporter: vec![INF; no],
             supporter_cost: vec![0; no],
+            head: vec![INF; nf],
+            next: vec![INF; no],
+            prev: vec![INF; no],
             zone: vec![Zone::Other; nf],
             queue: BucketQueue::default(),
             stack: Vec::new(),
             cut: Vec::new(),
             state_facts: Vec::new(),
-            relaxed,
+        };
+        LmCut { relaxed, work }
+    }
+}
+
+impl Work {
+    /// Makes `fact` the supporter of `op` (which has none).
+    #[inline]
+    fn link(&mut self, op: u32, fact: u32) {
+        let h = self.head[fact as usize];
+        self.next[op as usize] = h;
+        self.prev[op as usize] = INF;
+        if h != INF {
+            self.prev[h as usize] = op;
+        }
+        self.head[fact as usize] = op;
+        self.supporter[op as usize] = fact;
+    }
+
+    /// Removes `op` from the list of its supporter.
+    #[inline]
+    fn unlink(&mut self, op: u32) {
+        let (p, n) = (self.prev[op as usize], self.next[op as usize]);
+        if p == INF {
+            self.head[self.supporter[op as usize] as usize] = n;
+        } else {
+            self.next[p as usize] = n;
+        }
+        if n != INF {
+            self.prev[n as usize] = p;
         }
     }
 
+    #[inline]
     fn enqueue(&mut self, fact: u32, cost: u32) {
         if cost < self.fact_cost[fact as usize] {
             self.fact_cost[fact as usize] = cost;
@@ -82,31 +127,29 @@ impl LmCut {
     }
 
     /// Full h^max exploration from the state facts with the current costs.
-    fn first_exploration(&mut self) {
-        let r = &self.relaxed;
+    fn first_exploration(&mut self, r: &RelaxedTask) {
         self.fact_cost.fill(INF);
         self.supporter.fill(INF);
-        for op in 0..r.num_ops() {
-            self.unsatisfied[op] = r.pre_len(op);
+        self.head.fill(INF);
+        for (op, u) in self.unsatisfied.iter_mut().enumerate() {
+            *u = r.pre_len(op);
         }
         self.queue.clear();
         for i in 0..self.state_facts.len() {
-            let f = self.state_facts[i];
-            self.enqueue(f, 0);
+            self.enqueue(self.state_facts[i], 0);
         }
         while let Some((cost, fact)) = self.queue.pop() {
             if cost > self.fact_cost[fact as usize] {
                 continue;
             }
-            for i in 0..self.relaxed.pre_of.row(fact).len() {
-                let op = self.relaxed.pre_of.row(fact)[i] as usize;
-                self.unsatisfied[op] -= 1;
-                if self.unsatisfied[op] == 0 {
-                    self.supporter[op] = fact;
-                    self.supporter_cost[op] = cost;
-                    let target = cost + self.cost[op];
-                    for j in 0..self.relaxed.eff.row(op as u32).len() {
-                        let e = self.relaxed.eff.row(op as u32)[j];
+            for &op in r.pre_of.row(fact) {
+                let o = op as usize;
+                self.unsatisfied[o] -= 1;
+                if self.unsatisfied[o] == 0 {
+                    self.link(op, fact);
+                    self.supporter_cost[o] = cost;
+                    let target = cost + self.cost[o];
+                    for &e in r.eff.row(op) {
                         self.enqueue(e, target);
                     }
                 }
@@ -115,13 +158,12 @@ impl LmCut {
     }
 
     /// Lowers h^max after the costs of the operators in `self.cut` dropped.
-    fn incremental_exploration(&mut self) {
+    fn incremental_exploration(&mut self, r: &RelaxedTask) {
         self.queue.clear();
         for i in 0..self.cut.len() {
-            let op = self.cut[i] as usize;
-            let target = self.supporter_cost[op] + self.cost[op];
-            for j in 0..self.relaxed.eff.row(op as u32).len() {
-                let e = self.relaxed.eff.row(op as u32)[j];
+            let op = self.cut[i];
+            let target = self.supporter_cost[op as usize] + self.cost[op as usize];
+            for &e in r.eff.row(op) {
                 self.enqueue(e, target);
             }
         }
@@ -129,43 +171,49 @@ impl LmCut {
             if cost > self.fact_cost[fact as usize] {
                 continue;
             }
-            for i in 0..self.relaxed.pre_of.row(fact).len() {
-                let op = self.relaxed.pre_of.row(fact)[i] as usize;
-                if self.supporter[op] != fact || self.supporter_cost[op] <= cost {
-                    continue;
-                }
-                // The supporter got cheaper: the costliest precondition may now be another.
-                let old = self.supporter_cost[op];
-                let mut best = fact;
-                for &p in self.relaxed.pre.row(op as u32) {
-                    if self.fact_cost[p as usize] > self.fact_cost[best as usize] {
-                        best = p;
+            let mut op = self.head[fact as usize];
+            while op != INF {
+                let o = op as usize;
+                let following = self.next[o];
+                if self.supporter_cost[o] > cost {
+                    // The supporter got cheaper: the costliest precondition may now be
+                    // another one.
+                    let old = self.supporter_cost[o];
+                    let (mut best, mut best_cost) = (fact, cost);
+                    for &p in r.pre.row(op) {
+                        if self.fact_cost[p as usize] > best_cost {
+                            best = p;
+                            best_cost = self.fact_cost[p as usize];
+                        }
+                    }
+                    if best != fact {
+                        self.unlink(op);
+                        self.link(op, best);
+                    }
+                    self.supporter_cost[o] = best_cost;
+                    if best_cost < old {
+                        let target = best_cost + self.cost[o];
+                        for &e in r.eff.row(op) {
+                            self.enqueue(e, target);
+                        }
                     }
                 }
-                self.supporter[op] = best;
-                self.supporter_cost[op] = self.fact_cost[best as usize];
-                if self.supporter_cost[op] < old {
-                    let target = self.supporter_cost[op] + self.cost[op];
-                    for j in 0..self.relaxed.eff.row(op as u32).len() {
-                        let e = self.relaxed.eff.row(op as u32)[j];
-                        self.enqueue(e, target);
-                    }
-                }
+                op = following;
             }
         }
     }
 
     /// Marks the goal zone: facts reaching the goal through zero-cost supporters.
-    fn mark_goal_zone(&mut self) {
+    fn mark_goal_zone(&mut self, r: &RelaxedTask) {
         self.zone.fill(Zone::Other);
         self.stack.clear();
-        self.stack.push(self.relaxed.goal_fact);
+        self.stack.push(r.goal_fact);
         while let Some(f) = self.stack.pop() {
             if self.zone[f as usize] == Zone::Goal {
                 continue;
             }
             self.zone[f as usize] = Zone::Goal;
-            for &op in self.relaxed.achievers.row(f) {
+            for &op in r.achievers.row(f) {
                 let s = self.supporter[op as usize];
                 if self.cost[op as usize] == 0 && s != INF && self.zone[s as usize] != Zone::Goal {
                     self.stack.push(s);
@@ -176,7 +224,7 @@ impl LmCut {
 
     /// Collects into `self.cut` the operators, reached from the state through their
     /// supporters without entering the goal zone, that add a goal-zone fact.
-    fn find_cut(&mut self) {
+    fn find_cut(&mut self, r: &RelaxedTask) {
         self.cut.clear();
         self.stack.clear();
         for &f in &self.state_facts {
@@ -184,21 +232,20 @@ impl LmCut {
             self.stack.push(f);
         }
         while let Some(f) = self.stack.pop() {
-            for &op in self.relaxed.pre_of.row(f) {
-                if self.supporter[op as usize] != f {
-                    continue;
-                }
-                let effects = self.relaxed.eff.row(op);
+            let mut op = self.head[f as usize];
+            while op != INF {
+                let effects = r.eff.row(op);
                 if effects.iter().any(|&e| self.zone[e as usize] == Zone::Goal) {
                     self.cut.push(op);
-                    continue;
-                }
-                for &e in effects {
-                    if self.zone[e as usize] == Zone::Other {
-                        self.zone[e as usize] = Zone::BeforeGoal;
-                        self.stack.push(e);
+                } else {
+                    for &e in effects {
+                        if self.zone[e as usize] == Zone::Other {
+                            self.zone[e as usize] = Zone::BeforeGoal;
+                            self.stack.push(e);
+                        }
                     }
                 }
+                op = self.next[op as usize];
             }
         }
     }
@@ -206,33 +253,34 @@ impl LmCut {
 
 impl Heuristic for LmCut {
     fn evaluate(&mut self, state: &[u64]) -> Option<u32> {
-        self.state_facts.clear();
-        self.state_facts.push(self.relaxed.true_fact);
-        for_each_fact(state, |f| self.state_facts.push(f));
-        self.cost.copy_from_slice(&self.relaxed.cost);
+        let (r, w) = (&self.relaxed, &mut self.work);
+        w.state_facts.clear();
+        w.state_facts.push(r.true_fact);
+        for_each_fact(state, |f| w.state_facts.push(f));
+        w.cost.copy_from_slice(&r.cost);
 
-        self.first_exploration();
-        let goal = self.relaxed.goal_fact as usize;
-        if self.fact_cost[goal] == INF {
+        w.first_exploration(r);
+        let goal = r.goal_fact as usize;
+        if w.fact_cost[goal] == INF {
             return None;
         }
         let mut h = 0u32;
-        while self.fact_cost[goal] != 0 {
-            self.mark_goal_zone();
-            self.find_cut();
+        while w.fact_cost[goal] != 0 {
+            w.mark_goal_zone(r);
+            w.find_cut(r);
             // Every cut operator has positive cost (zero-cost ones are in the zone's
             // plateau), and the cut is non-empty while the goal costs more than 0.
-            let Some(step) = self.cut.iter().map(|&op| self.cost[op as usize]).min() else {
+            let Some(step) = w.cut.iter().map(|&op| w.cost[op as usize]).min() else {
                 break;
             };
             if step == 0 {
                 break;
             }
             h += step;
-            for &op in &self.cut {
-                self.cost[op as usize] -= step;
+            for &op in &w.cut {
+                w.cost[op as usize] -= step;
             }
-            self.incremental_exploration();
+            w.incremental_exploration(r);
         }
         Some(h)
     }
