@@ -215,3 +215,27 @@ fn malformed_problems_give_specific_errors() {
     );
     assert_eq!((err.line, err.column), (1, 32));
 }
+
+#[test]
+fn single_character_edits_never_panic() {
+    // Deleting any one character, or inserting a parenthesis anywhere, gives either a
+    // domain or a located error.
+    let domain = DWR_DOMAIN;
+    for (i, c) in domain.char_indices() {
+        let deleted = format!("{}{}", &domain[..i], &domain[i + c.len_utf8()..]);
+        let opened = format!("{}({}", &domain[..i], &domain[i..]);
+        let closed = format!("{}){}", &domain[..i], &domain[i..]);
+        for src in [deleted, opened, closed] {
+            if let Err(e) = parse_domain(&src, "dwr.pddl") {
+                assert!(e.line >= 1 && e.column >= 1, "{e}");
+            }
+        }
+    }
+    let d = parse_domain(DWR_DOMAIN, "dwr.pddl").expect("domain");
+    for (i, c) in DWR_02.char_indices() {
+        let deleted = format!("{}{}", &DWR_02[..i], &DWR_02[i + c.len_utf8()..]);
+        if let Err(e) = parse_problem(&d, &deleted, "p.pddl") {
+            assert!(e.line >= 1 && e.column >= 1, "{e}");
+        }
+    }
+}
