@@ -3,11 +3,13 @@
 //! ```text
 //! vitro run SCENARIO [--seed N] [--until SECONDS] [--speed X] [--json] [--quiet]
 //! vitro validate SCENARIO
+//! vitro plan DOMAIN PROBLEM [--optimal] [--json]
 //! ```
 //!
 //! Exit codes: 0 success, 1 runtime error, 2 bad input (unreadable or malformed scenario,
-//! value out of range, bad arguments).
+//! value out of range, bad arguments), 4 the answer is a failure (no plan exists).
 
+mod plan;
 mod run;
 
 use clap::{Parser, Subcommand};
@@ -27,6 +29,8 @@ struct Cli {
 enum Command {
     /// Runs a scenario and reports its metrics.
     Run(run::RunArgs),
+    /// Finds a plan for a PDDL problem (STRIPS with typing).
+    Plan(plan::PlanArgs),
     /// Checks a scenario file without running it.
     Validate {
         /// The scenario file (TOML).
@@ -41,6 +45,8 @@ pub(crate) enum Failure {
     Input(anyhow::Error),
     /// Failure while running: exit 1.
     Runtime(anyhow::Error),
+    /// The work ran but its answer is a failure (no plan, a check failed): exit 4.
+    Check(anyhow::Error),
 }
 
 fn main() -> ExitCode {
@@ -48,6 +54,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => run::run(&args),
         Command::Validate { scenario } => run::validate(&scenario),
+        Command::Plan(args) => plan::plan(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -58,6 +65,10 @@ fn main() -> ExitCode {
         Err(Failure::Runtime(e)) => {
             eprintln!("error: {e:#}");
             ExitCode::from(1)
+        }
+        Err(Failure::Check(e)) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(4)
         }
     }
 }

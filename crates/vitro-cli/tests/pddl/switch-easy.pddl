@@ -1,0 +1,3 @@
+(define (problem easy) (:domain switch)
+  (:init (off))
+  (:goal (and (on))))
