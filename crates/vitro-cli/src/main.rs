@@ -4,6 +4,7 @@
 //! vitro run SCENARIO [--seed N] [--until SECONDS] [--speed X] [--json] [--quiet]
 //! vitro validate SCENARIO
 //! vitro plan DOMAIN PROBLEM [--optimal] [--json]
+//! vitro solve cops GRAPH.edges [--json]
 //! ```
 //!
 //! Exit codes: 0 success, 1 runtime error, 2 bad input (unreadable or malformed scenario,
@@ -11,6 +12,7 @@
 
 mod plan;
 mod run;
+mod solve;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -31,6 +33,9 @@ enum Command {
     Run(run::RunArgs),
     /// Finds a plan for a PDDL problem (STRIPS with typing).
     Plan(plan::PlanArgs),
+    /// Solves a game: `vitro solve cops GRAPH.edges`.
+    #[command(subcommand)]
+    Solve(solve::SolveCommand),
     /// Checks a scenario file without running it.
     Validate {
         /// The scenario file (TOML).
@@ -55,6 +60,7 @@ fn main() -> ExitCode {
         Command::Run(args) => run::run(&args),
         Command::Validate { scenario } => run::validate(&scenario),
         Command::Plan(args) => plan::plan(&args),
+        Command::Solve(cmd) => solve::solve(&cmd),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
