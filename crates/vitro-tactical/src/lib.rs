@@ -2,11 +2,14 @@
 //!
 //! A real town from OpenStreetMap ([`map`]) set on a real elevation model ([`terrain`]) as a
 //! [`site`], line of sight against both ([`los`]), terrain [`viewshed`]s, and the sensors
-//! that use them ([`sensor`]) over a tactical [`world`].
+//! that use them ([`sensor`]) over a tactical [`world`]; [`info`] and [`render`] give views
+//! of a map for the command line.
 
 pub mod geo;
+pub mod info;
 pub mod los;
 pub mod map;
+pub mod render;
 pub mod sensor;
 pub mod site;
 pub mod terrain;

@@ -84,6 +84,7 @@ pub struct Site {
     pub zones: ForbiddenZones,
     /// Line of sight against ground, buildings and bridges.
     pub los: LosScene,
+    zone_config: ZoneConfig,
 }
 
 impl Site {
@@ -169,9 +170,14 @@ impl Site {
             bridges,
             zones,
             los,
+            zone_config: config.zones,
         })
     }
 
+    /// The buffers the forbidden zones were built with.
+    pub fn zones_config(&self) -> ZoneConfig {
+        self.zone_config
+    }
     /// Town coordinates to world (x, y).
     pub fn to_world(&self, town: P2) -> P2 {
         [town[0] + self.offset[0], town[1] + self.offset[1]]
