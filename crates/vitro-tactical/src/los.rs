@@ -183,7 +183,8 @@ impl LosScene {
         Self::new(terrain, &[], &[])
     }
 
-    /// The triangle mesh (also usable as a static collider).
+    /// The triangle mesh (also usable as a static collider for rigid-body physics: ground,
+    /// buildings and bridge decks in one).
     pub fn trimesh(&self) -> &TriMesh {
         &self.mesh
     }

@@ -165,7 +165,7 @@ impl ForbiddenZones {
             .collect()
     }
 
-    /// The free point nearest to `p` (`p` itself if free), within [`NUDGE`] (1 mm).
+    /// The free point nearest to `p` (`p` itself if free), pushed 1 mm off the zone edge.
     ///
     /// Exact up to that nudge: the nearest free point lies on the boundary of the union of
     /// buffered zones, which is made of offset edges and arcs around vertices; the answer is
@@ -230,7 +230,7 @@ impl ForbiddenZones {
             .find_map(|c| self.nudge_free(p, c))
     }
 
-    /// Pushes a boundary point `c` off the zones by [`NUDGE`]: away from `p` first, then
+    /// Pushes a boundary point `c` off the zones by `NUDGE`: away from `p` first, then
     /// around.
     fn nudge_free(&self, p: P2, c: P2) -> Option<P2> {
         let d = dist(p, c);

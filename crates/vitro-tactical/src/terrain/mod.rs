@@ -250,6 +250,19 @@ impl Terrain {
         mesh
     }
 
+    /// The ground mesh as a parry3d [`TriMesh`](parry3d::shape::TriMesh) (`f32`, local
+    /// metres), for physics colliders.
+    pub fn trimesh(&self) -> Result<parry3d::shape::TriMesh, TerrainError> {
+        let m = self.mesh();
+        let v = m
+            .vertices
+            .iter()
+            .map(|p| parry3d::math::Vector::new(p[0] as f32, p[1] as f32, p[2] as f32))
+            .collect();
+        parry3d::shape::TriMesh::new(v, m.triangles)
+            .map_err(|e| TerrainError::Invalid(format!("ground mesh: {e:?}")))
+    }
+
     /// The largest gap between the mesh and the bilinear surface over the grid, metres.
     pub fn mesh_deviation(&self) -> f64 {
         let g = &self.grid;
@@ -286,6 +299,7 @@ mod tests {
         assert_eq!(t.mesh_deviation(), 0.0);
         let m = t.mesh();
         assert_eq!(m.triangles.len(), 3 * 2 * 4);
+        assert_eq!(t.trimesh().unwrap().indices().len(), 3 * 2 * 4);
         assert_eq!(m.vertices.len(), 12 + 6);
     }
 
