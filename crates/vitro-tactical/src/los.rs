@@ -11,7 +11,6 @@
 
 use crate::terrain::{Mesh, Terrain};
 use parry3d::math::Vector;
-use parry3d::partitioning::TraversalAction;
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::{TriMesh, Triangle};
 
@@ -218,8 +217,7 @@ impl LosScene {
         Some((ray, (len - 2.0 * END_TOLERANCE) as f32))
     }
 
-    /// True if nothing blocks the segment from `a` to `b`. Stops at the first blocking
-    /// triangle found in the BVH (any hit, not the nearest).
+    /// True if nothing blocks the segment from `a` to `b` (a ray cast through the BVH).
     ///
     /// ```
     /// use vitro_tactical::los::LosScene;
@@ -231,28 +229,10 @@ impl LosScene {
     /// assert!(los.visible([200.0, 500.0, 80.0], [800.0, 500.0, 80.0]));
     /// ```
     pub fn visible(&self, a: [f64; 3], b: [f64; 3]) -> bool {
-        let Some((ray, max)) = Self::ray(a, b) else {
-            return true;
-        };
-        let mut blocked = false;
-        let mesh = &self.mesh;
-        mesh.bvh().traverse(|node| {
-            if node.cast_ray(&ray, max) > max {
-                return TraversalAction::Prune;
-            }
-            if let Some(leaf) = node.leaf_data() {
-                if mesh
-                    .triangle(leaf)
-                    .cast_local_ray(&ray, max, false)
-                    .is_some()
-                {
-                    blocked = true;
-                    return TraversalAction::EarlyExit;
-                }
-            }
-            TraversalAction::Continue
-        });
-        !blocked
+        match Self::ray(a, b) {
+            Some((ray, max)) => self.mesh.cast_local_ray(&ray, max, false).is_none(),
+            None => true,
+        }
     }
 
     /// Distance from `a` to the first surface on the way to `b`, if any.
