@@ -211,6 +211,17 @@ mod tests {
     }
 
     #[test]
+    fn water_tags() {
+        let t = |k: &str, v: &str| {
+            let mut tags = Tags::default();
+            tags.push(k, v);
+            is_water(&tags)
+        };
+        assert!(t("natural", "water") && t("waterway", "riverbank") && t("landuse", "reservoir"));
+        assert!(!t("natural", "wood") && !t("waterway", "stream") && !t("landuse", "grass"));
+    }
+
+    #[test]
     fn rings_join_in_any_direction() {
         let rings = join_rings(vec![vec![1, 2, 3], vec![1, 4], vec![3, 4]]);
         assert_eq!(rings.len(), 1);
