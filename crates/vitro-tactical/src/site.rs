@@ -206,7 +206,7 @@ impl Site {
     }
 
     /// The 3D path of street segment `segment` of the `mode` graph: on the ground, resampled
-    /// at least every half terrain cell, or along a straight ramp for a bridge.
+    /// at least every half terrain cell, or on the bridge deck for a street on a bridge.
     pub fn segment_path(&self, mode: Mode, segment: usize) -> Option<Vec<[f64; 3]>> {
         let seg = self.map.streets(mode).segments.get(segment)?;
         let step = self.terrain.grid().cellsize / 2.0;
@@ -223,10 +223,22 @@ impl Site {
             pts.push(self.to_world(last));
         }
         let ground_at = |p: P2| self.ground(p).unwrap_or(0.0);
-        Some(if seg.bridge {
-            ramp(&pts, &ground_at)
-        } else {
-            pts.iter().map(|&p| [p[0], p[1], ground_at(p)]).collect()
+        let deck = seg
+            .bridge
+            .then(|| {
+                self.bridges
+                    .iter()
+                    .find(|b| self.map.bridges[b.index].osm_id == seg.way)
+            })
+            .flatten();
+        Some(match deck {
+            // On the bridge's own deck, the one line of sight sees.
+            Some(b) => pts
+                .iter()
+                .map(|&p| [p[0], p[1], deck_height(&b.deck, p).max(ground_at(p))])
+                .collect(),
+            None if seg.bridge => ramp(&pts, &ground_at),
+            None => pts.iter().map(|&p| [p[0], p[1], ground_at(p)]).collect(),
         })
     }
 
@@ -242,6 +254,27 @@ impl Site {
                 .sum(),
         )
     }
+}
+
+/// Height of a deck polyline at the point of it nearest to `p` (interpolated along the
+/// nearest piece).
+fn deck_height(deck: &[[f64; 3]], p: P2) -> f64 {
+    let mut best = (f64::INFINITY, deck.first().map_or(0.0, |q| q[2]));
+    for w in deck.windows(2) {
+        let (a, b) = ([w[0][0], w[0][1]], [w[1][0], w[1][1]]);
+        let q = crate::geo::closest_on_segment(p, a, b);
+        let d = crate::geo::dist(p, q);
+        if d < best.0 {
+            let l = crate::geo::dist(a, b);
+            let t = if l > 0.0 {
+                crate::geo::dist(a, q) / l
+            } else {
+                0.0
+            };
+            best = (d, w[0][2] + t * (w[1][2] - w[0][2]));
+        }
+    }
+    best.1
 }
 
 /// Heights along a line: a straight ramp between the ground at both ends, lifted to the

@@ -167,7 +167,20 @@ fn the_town_sits_on_the_terrain() {
             }
         }
         assert!(site.segment_length_3d(Mode::Drive, i).unwrap() >= seg.length - 1e-6);
+        // A street on a bridge runs on the deck: never under the ground, and a point 2 m
+        // above it sees a point 2 m above its other end.
+        if seg.bridge {
+            for p in &path {
+                assert!(p[2] >= site.ground([p[0], p[1]]).unwrap() - 1e-9);
+            }
+            let (a, b) = (path[0], path[path.len() - 1]);
+            assert!(
+                site.los
+                    .visible([a[0], a[1], a[2] + 2.0], [b[0], b[1], b[2] + 2.0])
+            );
+        }
     }
+    assert!(site.map.drive.segments.iter().any(|s| s.bridge));
     let placed = |offset| {
         let config = SiteConfig {
             offset: Some(offset),
