@@ -1,7 +1,36 @@
 //! The pending-event set: a priority queue ordered by (time, scheduling sequence).
 //!
 //! Events at equal time pop in the order they were pushed (FIFO), always. Payloads are stored
-//! inline (no box per event); cancellation is O(1) through the [`EventId`] handle.
+//! inline in a slab (no box per event); cancellation is O(1) through the [`EventId`] handle.
+//!
+//! # How it works
+//!
+//! Simulated time never goes back: an event is never scheduled before the last popped one, and
+//! every new event gets a larger sequence number than any before it. So the 128-bit keys
+//! `(time << 64) | seq` leave the queue in increasing order, and the queue is a *monotone radix
+//! heap* on them. An entry sits in the bucket named by the highest byte in which its key
+//! differs from the last popped key, and by its own value of that byte (16 positions × 256
+//! values); every key of a bucket is below every key of a higher bucket. A push is a
+//! `leading_zeros` and an append. A pop takes the minimum of the lowest non-empty bucket (found
+//! in a two-level bitmap) and spreads the rest of that bucket over lower buckets. An entry
+//! moves at most 16 times in its life, in practice once or twice (1.2 times with 10^3 pending
+//! events with exponential hold times, 2.1 times with 10^6), and each move is a sequential
+//! copy of 24 bytes: no sift, no unpredictable branch per heap level, no cache miss per level
+//! once the queue outgrows the cache.
+//!
+//! Buckets are lists of fixed-size chunks drawn from one pool, so memory follows the number of
+//! entries rather than the largest size every bucket ever reached.
+//!
+//! Payloads live in a slab, apart from the 24-byte entries `(time, seq, slot)` that move
+//! between buckets. Cancelling frees the slab slot at once (dropping the payload); the entry
+//! left in a bucket is recognised as stale (its slot is free or holds another sequence number)
+//! and discarded when it reaches the front. A reused slot therefore never resurrects an old
+//! handle.
+//!
+//! Slot reuse depends only on the order of `push`, `pop` and `cancel` calls, never on how the
+//! entries are spread over the buckets, so a queue restored from its serialized form hands out
+//! the same [`EventId`]s as the original from then on. The serialized state is checked when it
+//! is read back: a corrupt snapshot is an error, not a panic later.
 
 use crate::time::SimTime;
 use serde::{Deserialize, Serialize};
@@ -44,104 +73,487 @@ pub struct Popped<T> {
     pub payload: T,
 }
 
+/// A scheduled event as the radix heap holds it: its key and the slab slot of its payload.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-struct Key {
+struct Entry {
     time: u64,
     seq: u64,
     slot: u32,
 }
 
-impl Key {
+impl Entry {
+    /// A placeholder for unused chunk space.
+    const ZERO: Entry = Entry {
+        time: 0,
+        seq: 0,
+        slot: 0,
+    };
+
+    /// The ordering key: time, then sequence.
     #[inline(always)]
-    fn before(&self, o: &Key) -> bool {
-        (self.time, self.seq) < (o.time, o.seq)
+    fn key(&self) -> u128 {
+        (u128::from(self.time) << 64) | u128::from(self.seq)
     }
 }
 
-/// Arity of the implicit heap: a 4-ary heap halves the depth of a binary one and keeps a
-/// node's children together in memory.
-const D: usize = 4;
+/// Width of a digit of the key: entries are bucketed by their highest digit that differs from
+/// `last`, and by that digit's value. Measured on the hold benchmark: 8 beats 1, 2 and 4 (fewer
+/// moves per entry) at 10^3 and at 10^6 pending events.
+const DIGIT_BITS: u32 = 8;
+/// Values of a digit.
+const RADIX: usize = 1 << DIGIT_BITS;
+/// Buckets: one per (digit position, digit value).
+const BUCKETS: usize = (128 / DIGIT_BITS as usize) * RADIX;
+/// Words of the bucket occupancy bitmap.
+const WORDS: usize = BUCKETS / 64;
 
-/// An implicit D-ary min-heap of keys.
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
-#[serde(transparent)]
-struct Heap(Vec<Key>);
+/// The bucket of `key` relative to `last`: (position of the highest digit in which they differ,
+/// the value of that digit in `key`), numbered so that lower buckets hold smaller keys.
+/// A key equal to `last` falls in bucket `last & (RADIX - 1)`, which no other key shares.
+#[inline(always)]
+fn bucket_of(key: u128, last: u128) -> usize {
+    let pos = (127 - ((key ^ last) | 1).leading_zeros()) / DIGIT_BITS;
+    let digit = (key >> (pos * DIGIT_BITS)) as usize & (RADIX - 1);
+    pos as usize * RADIX + digit
+}
 
-impl Heap {
-    fn with_capacity(n: usize) -> Self {
-        Heap(Vec::with_capacity(n))
-    }
-    fn peek(&self) -> Option<&Key> {
-        self.0.first()
-    }
-    fn iter(&self) -> impl Iterator<Item = &Key> {
-        self.0.iter()
-    }
-    fn push(&mut self, k: Key) {
-        let v = &mut self.0;
-        let mut i = v.len();
-        v.push(k);
-        while i > 0 {
-            let parent = (i - 1) / D;
-            if !k.before(&v[parent]) {
-                break;
-            }
-            v[i] = v[parent];
-            i = parent;
+/// Entries per chunk of bucket storage.
+const CHUNK: usize = 16;
+/// End of a chunk list.
+const NIL: u32 = u32::MAX;
+
+/// Why a serialized queue was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("invalid event queue state: {0}")]
+struct InvalidState(&'static str);
+
+/// A block of entries. A bucket is a list of chunks, so the heap's memory follows the number
+/// of entries, not the largest size each bucket ever had.
+#[derive(Clone, Debug)]
+#[repr(C)] // `next` first: it shares a cache line with the first entries
+struct Chunk {
+    /// The next chunk of the list.
+    next: u32,
+    entries: [Entry; CHUNK],
+}
+
+/// A bucket: its head chunk and how many entries that chunk holds. The other chunks of the list
+/// are full. A bucket without a chunk reads as a full [`NIL`] chunk.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Head {
+    chunk: u32,
+    len: u32,
+}
+
+impl Head {
+    /// No chunk.
+    const NONE: Head = Head {
+        chunk: NIL,
+        len: CHUNK as u32,
+    };
+}
+
+/// Where an entry is in the radix heap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Pos {
+    bucket: usize,
+    chunk: u32,
+    index: u32,
+}
+
+/// A monotone radix heap of entries with distinct keys, none below `last`.
+///
+/// Invariant: an entry with key `k` sits in bucket `bucket_of(k, last)`, and `k >= last`. All
+/// keys of a bucket are below all keys of any higher bucket. An emptied bucket keeps its head
+/// chunk for the next entries (small buckets empty and refill all the time).
+#[derive(Clone, Debug)]
+struct RadixHeap {
+    /// The key of the last minimum taken out (0 before the first).
+    last: u128,
+    /// Each bucket's head.
+    heads: Vec<Head>,
+    /// The chunks: each in one bucket's list or in the free list.
+    chunks: Vec<Chunk>,
+    /// First chunk of the free list.
+    free_chunks: u32,
+    /// Bit `b % 64` of word `b / 64` is set iff bucket `b` is not empty.
+    occupied: [u64; WORDS],
+    /// Bit `w` is set iff word `w` of `occupied` is not zero.
+    summary: u64,
+    /// Number of entries.
+    len: usize,
+    /// Where the minimum is, when known: spares a second scan when a peek precedes a pop.
+    front: Option<Pos>,
+}
+
+impl RadixHeap {
+    /// An empty heap for keys from `last` on.
+    fn new(last: u128) -> Self {
+        RadixHeap {
+            last,
+            heads: vec![Head::NONE; BUCKETS],
+            chunks: Vec::new(),
+            free_chunks: NIL,
+            occupied: [0; WORDS],
+            summary: 0,
+            len: 0,
+            front: None,
         }
-        v[i] = k;
     }
-    fn pop(&mut self) -> Option<Key> {
-        let v = &mut self.0;
-        let last = v.pop()?;
-        if v.is_empty() {
-            return Some(last);
+
+    /// Marks bucket `b` as not empty.
+    #[inline(always)]
+    fn mark(&mut self, b: usize) {
+        self.occupied[b / 64] |= 1 << (b % 64);
+        self.summary |= 1 << (b / 64);
+    }
+
+    /// Marks bucket `b` as empty.
+    #[inline(always)]
+    fn unmark(&mut self, b: usize) {
+        let w = &mut self.occupied[b / 64];
+        *w &= !(1 << (b % 64));
+        if *w == 0 {
+            self.summary &= !(1 << (b / 64));
         }
-        let top = v[0];
-        let n = v.len();
-        let mut i = 0;
-        loop {
-            let first = i * D + 1;
-            if first >= n {
-                break;
+    }
+
+    /// Stores `e` in bucket `b` (the caller counts it in `len`).
+    #[inline(always)]
+    fn append(&mut self, b: usize, e: Entry) {
+        let head = &mut self.heads[b];
+        if (head.len as usize) < CHUNK {
+            let i = head.len as usize;
+            head.len += 1;
+            let c = head.chunk as usize;
+            self.chunks[c].entries[i] = e;
+            self.mark(b);
+        } else {
+            self.append_chunk(b, e);
+        }
+    }
+
+    /// Stores `e` in a new chunk at the head of bucket `b`.
+    #[inline(never)]
+    fn append_chunk(&mut self, b: usize, e: Entry) {
+        let next = self.heads[b].chunk;
+        let c = if self.free_chunks != NIL {
+            let c = self.free_chunks;
+            let chunk = &mut self.chunks[c as usize];
+            self.free_chunks = chunk.next;
+            chunk.next = next;
+            chunk.entries[0] = e;
+            c
+        } else {
+            let c = self.chunks.len();
+            assert!(c < NIL as usize, "event queue: too many chunks");
+            let mut entries = [Entry::ZERO; CHUNK];
+            entries[0] = e;
+            self.chunks.push(Chunk { next, entries });
+            c as u32
+        };
+        self.heads[b] = Head { chunk: c, len: 1 };
+        self.mark(b);
+    }
+
+    /// Puts chunk `c` on the free list.
+    #[inline(always)]
+    fn free_chunk(&mut self, c: u32) {
+        self.chunks[c as usize].next = self.free_chunks;
+        self.free_chunks = c;
+    }
+
+    /// Adds an entry; its key must not be below `last` and must differ from every other key.
+    #[inline(always)]
+    fn push(&mut self, e: Entry) {
+        debug_assert!(e.key() >= self.last, "radix heap keys must be monotone");
+        let b = bucket_of(e.key(), self.last);
+        if let Some(f) = self.front {
+            // Entries never move on a push: the known minimum stays valid unless undercut.
+            if b < f.bucket || (b == f.bucket && e.key() < self.get(f).key()) {
+                self.front = None;
             }
-            let end = (first + D).min(n);
-            let mut best = first;
-            for c in first + 1..end {
-                if v[c].before(&v[best]) {
-                    best = c;
+        }
+        self.append(b, e);
+        self.len += 1;
+    }
+
+    /// The lowest non-empty bucket.
+    #[inline(always)]
+    fn lowest(&self) -> Option<usize> {
+        if self.summary == 0 {
+            return None;
+        }
+        let w = self.summary.trailing_zeros() as usize;
+        Some(w * 64 + self.occupied[w].trailing_zeros() as usize)
+    }
+
+    /// The chunks of bucket `b`, each with its entries.
+    fn chunks_of(&self, b: usize) -> impl Iterator<Item = (u32, &[Entry])> {
+        let Head { mut chunk, mut len } = self.heads[b];
+        std::iter::from_fn(move || {
+            let c = self.chunks.get(chunk as usize)?;
+            let item = (chunk, &c.entries[..len as usize]);
+            chunk = c.next;
+            len = CHUNK as u32;
+            Some(item)
+        })
+    }
+
+    /// The entries of bucket `b`.
+    fn bucket(&self, b: usize) -> impl Iterator<Item = &Entry> {
+        self.chunks_of(b).flat_map(|(_, entries)| entries)
+    }
+
+    /// Where the minimum is.
+    #[inline(always)]
+    fn min_pos(&mut self) -> Option<Pos> {
+        if self.front.is_some() {
+            return self.front;
+        }
+        let bucket = self.lowest()?;
+        let mut best = Pos {
+            bucket,
+            chunk: NIL,
+            index: 0,
+        };
+        let mut best_key = u128::MAX;
+        for (c, entries) in self.chunks_of(bucket) {
+            for (i, e) in entries.iter().enumerate() {
+                let k = e.key();
+                if k <= best_key {
+                    best = Pos {
+                        bucket,
+                        chunk: c,
+                        index: i as u32,
+                    };
+                    best_key = k;
                 }
             }
-            if !v[best].before(&last) {
-                break;
-            }
-            v[i] = v[best];
-            i = best;
         }
-        v[i] = last;
-        Some(top)
+        self.front = Some(best);
+        self.front
+    }
+
+    /// The entry at a position returned by [`min_pos`](Self::min_pos).
+    #[inline(always)]
+    fn get(&self, p: Pos) -> &Entry {
+        &self.chunks[p.chunk as usize].entries[p.index as usize]
+    }
+
+    /// Takes out the minimum found at `p` by [`min_pos`](Self::min_pos), makes its key the
+    /// new `last`, and spreads the rest of its bucket over the lower buckets.
+    #[inline(always)]
+    fn take_min(&mut self, p: Pos) -> Entry {
+        let e = *self.get(p);
+        self.len -= 1;
+        self.front = None;
+        self.last = e.key();
+        let head = self.heads[p.bucket];
+        if head.len == 1 && self.chunks[head.chunk as usize].next == NIL {
+            // It was alone in its bucket, which keeps its chunk.
+            self.heads[p.bucket].len = 0;
+            self.unmark(p.bucket);
+        } else {
+            self.redistribute(p);
+        }
+        e
+    }
+
+    /// Empties the bucket of `taken` (but for that entry, already taken out) into the lower
+    /// buckets, after `last` moved into it.
+    #[inline(never)]
+    fn redistribute(&mut self, taken: Pos) {
+        // The entries of this bucket share their digits down to its position with `last`: they
+        // now differ from it at a lower position, hence belong to lower buckets.
+        let last = self.last;
+        let Head { chunk: head, len } = self.heads[taken.bucket];
+        self.heads[taken.bucket].len = 0;
+        self.unmark(taken.bucket);
+        let (mut c, mut n) = (head, len);
+        while c != NIL {
+            for i in 0..n {
+                if c == taken.chunk && i == taken.index {
+                    continue;
+                }
+                let x = self.chunks[c as usize].entries[i as usize];
+                self.append(bucket_of(x.key(), last), x);
+            }
+            let next = std::mem::replace(&mut self.chunks[c as usize].next, NIL);
+            if c != head {
+                self.free_chunk(c);
+            }
+            (c, n) = (next, CHUNK as u32);
+        }
+    }
+
+    /// Keeps only the entries of bucket `b` for which `keep` holds (`last` does not change).
+    fn retain_in(&mut self, b: usize, mut keep: impl FnMut(&Entry) -> bool) {
+        self.front = None;
+        let before: Vec<Entry> = self.bucket(b).copied().collect();
+        let Head { chunk: head, .. } = self.heads[b];
+        let mut c = std::mem::replace(&mut self.chunks[head as usize].next, NIL);
+        while c != NIL {
+            let next = self.chunks[c as usize].next;
+            self.free_chunk(c);
+            c = next;
+        }
+        self.heads[b].len = 0;
+        self.unmark(b);
+        self.len -= before.len();
+        for e in before.into_iter().filter(|e| keep(e)) {
+            self.append(b, e);
+            self.len += 1;
+        }
+    }
+
+    /// All entries, in no particular order.
+    fn iter(&self) -> impl Iterator<Item = &Entry> {
+        (0..BUCKETS).flat_map(|b| self.bucket(b))
     }
 }
 
+/// A slab slot: free (a link of the free list) or holding a pending event's payload.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 enum Slot<T> {
     Free { next_free: u32 },
     Pending { seq: u64, payload: T },
-    Cancelled { seq: u64 },
+}
+
+/// End of the free list; also the bound on the number of slots.
+const NO_FREE: u32 = u32::MAX;
+
+/// True if `e` is the live entry of its slot (not cancelled, not superseded).
+#[inline(always)]
+fn is_live<T>(slots: &[Slot<T>], e: &Entry) -> bool {
+    matches!(slots.get(e.slot as usize), Some(Slot::Pending { seq, .. }) if *seq == e.seq)
 }
 
 /// A priority queue of events keyed by (time, sequence).
-#[derive(Clone, Debug, Serialize, Deserialize)]
+///
+/// ```
+/// use vitro::event::EventQueue;
+/// use vitro::time::SimTime;
+/// let mut q = EventQueue::new();
+/// q.push(SimTime::from_secs(2), "late").unwrap();
+/// let first = q.push(SimTime::from_secs(1), "first").unwrap();
+/// q.push(SimTime::from_secs(1), "second").unwrap();
+/// let p = q.pop().unwrap();
+/// assert_eq!((p.time, p.id, p.payload), (SimTime::from_secs(1), first, "first"));
+/// assert_eq!(q.pop().unwrap().payload, "second"); // equal times: first pushed, first out
+/// assert_eq!(q.now(), SimTime::from_secs(1));
+/// assert!(q.push(SimTime::ZERO, "too late").is_err());
+/// ```
+///
+/// # Serialized form
+///
+/// The time, the next sequence number, the pending events' keys in firing order, and the slab
+/// with its free list: nothing about the internal buckets, so equal queues serialize to equal
+/// bytes. Reading it back checks every invariant and refuses a corrupt state with an error.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(try_from = "QueueState<T>")]
 pub struct EventQueue<T> {
-    heap: Heap,
+    now: SimTime,
+    next_seq: u64,
+    heap: RadixHeap,
     slots: Vec<Slot<T>>,
     free_head: u32,
-    next_seq: u64,
-    now: SimTime,
+    /// Number of pending events (occupied slots).
     pending: usize,
 }
 
-const NO_FREE: u32 = u32::MAX;
+/// The key of `now` with the smallest sequence number: not above any entry, nor above any key
+/// pushed later.
+fn floor_key(now: SimTime) -> u128 {
+    u128::from(now.as_nanos()) << 64
+}
+
+impl<T: Serialize> Serialize for EventQueue<T> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut events: Vec<Entry> = self
+            .heap
+            .iter()
+            .filter(|e| is_live(&self.slots, e))
+            .copied()
+            .collect();
+        events.sort_unstable_by_key(Entry::key);
+        let mut st = s.serialize_struct("EventQueue", 5)?;
+        st.serialize_field("now", &self.now)?;
+        st.serialize_field("next_seq", &self.next_seq)?;
+        st.serialize_field("events", &events)?;
+        st.serialize_field("slots", &self.slots)?;
+        st.serialize_field("free_head", &self.free_head)?;
+        st.end()
+    }
+}
+
+/// The serialized form of [`EventQueue`], checked on the way in.
+#[derive(Deserialize)]
+struct QueueState<T> {
+    now: SimTime,
+    next_seq: u64,
+    events: Vec<Entry>,
+    slots: Vec<Slot<T>>,
+    free_head: u32,
+}
+
+impl<T> TryFrom<QueueState<T>> for EventQueue<T> {
+    type Error = InvalidState;
+    fn try_from(s: QueueState<T>) -> Result<Self, InvalidState> {
+        let n = s.slots.len();
+        if n > NO_FREE as usize {
+            return Err(InvalidState("too many slots"));
+        }
+        // Each event: in range, and the one its slot holds (so no two events share a slot).
+        let mut heap = RadixHeap::new(floor_key(s.now));
+        let mut covered = vec![false; n];
+        for e in s.events {
+            if e.time < s.now.as_nanos() || e.seq >= s.next_seq {
+                return Err(InvalidState("event out of range"));
+            }
+            if !is_live(&s.slots, &e) || std::mem::replace(&mut covered[e.slot as usize], true) {
+                return Err(InvalidState("event does not match its slot"));
+            }
+            heap.push(e);
+        }
+        // Every pending slot has its event; the free list links exactly the free slots.
+        let mut free = 0;
+        for (slot, covered) in s.slots.iter().zip(&covered) {
+            match slot {
+                Slot::Pending { .. } if !covered => {
+                    return Err(InvalidState("pending slot without an event"));
+                }
+                Slot::Pending { .. } => {}
+                Slot::Free { .. } => free += 1,
+            }
+        }
+        let mut linked = vec![false; n];
+        let mut at = s.free_head;
+        let mut count = 0;
+        while at != NO_FREE {
+            match s.slots.get(at as usize) {
+                Some(Slot::Free { next_free }) if !linked[at as usize] => {
+                    linked[at as usize] = true;
+                    count += 1;
+                    at = *next_free;
+                }
+                _ => return Err(InvalidState("broken free list")),
+            }
+        }
+        if count != free {
+            return Err(InvalidState("free slot missing from the free list"));
+        }
+        Ok(EventQueue {
+            now: s.now,
+            next_seq: s.next_seq,
+            pending: heap.len,
+            heap,
+            slots: s.slots,
+            free_head: s.free_head,
+        })
+    }
+}
 
 impl<T> Default for EventQueue<T> {
     fn default() -> Self {
@@ -155,14 +567,14 @@ impl<T> EventQueue<T> {
         Self::with_capacity(0)
     }
 
-    /// An empty queue with room for `n` pending events.
+    /// An empty queue with room for `n` pending events' payloads.
     pub fn with_capacity(n: usize) -> Self {
         EventQueue {
-            heap: Heap::with_capacity(n),
+            now: SimTime::ZERO,
+            next_seq: 0,
+            heap: RadixHeap::new(0),
             slots: Vec::with_capacity(n),
             free_head: NO_FREE,
-            next_seq: 0,
-            now: SimTime::ZERO,
             pending: 0,
         }
     }
@@ -188,26 +600,33 @@ impl<T> EventQueue<T> {
     }
 
     /// Schedules `payload` at `at`. Fails if `at` is before [`now`](Self::now).
+    ///
+    /// # Panics
+    ///
+    /// If 2^32 - 1 events are pending at once.
     pub fn push(&mut self, at: SimTime, payload: T) -> Result<EventId, ScheduleError> {
         if at < self.now {
             return Err(ScheduleError::InThePast { at, now: self.now });
         }
         let seq = self.next_seq;
         self.next_seq += 1;
+        let pending = Slot::Pending { seq, payload };
         let slot = if self.free_head != NO_FREE {
             let s = self.free_head;
-            self.free_head = match self.slots[s as usize] {
-                Slot::Free { next_free } => next_free,
-                _ => unreachable!("free list points at a used slot"),
+            let cell = &mut self.slots[s as usize];
+            let Slot::Free { next_free } = *cell else {
+                unreachable!("the free list links only free slots")
             };
-            self.slots[s as usize] = Slot::Pending { seq, payload };
+            self.free_head = next_free;
+            *cell = pending;
             s
         } else {
-            let s = u32::try_from(self.slots.len()).expect("more than 2^32-1 pending events");
-            self.slots.push(Slot::Pending { seq, payload });
-            s
+            let s = self.slots.len();
+            assert!(s < NO_FREE as usize, "more than 2^32 - 1 pending events");
+            self.slots.push(pending);
+            s as u32
         };
-        self.heap.push(Key {
+        self.heap.push(Entry {
             time: at.as_nanos(),
             seq,
             slot,
@@ -216,15 +635,15 @@ impl<T> EventQueue<T> {
         Ok(EventId { seq, slot })
     }
 
-    /// Cancels a pending event. Returns false if it already fired or was cancelled.
+    /// Cancels a pending event, dropping its payload. Returns false if it already fired or
+    /// was cancelled.
     pub fn cancel(&mut self, id: EventId) -> bool {
-        match self.slots.get(id.slot as usize) {
-            Some(Slot::Pending { seq, .. }) if *seq == id.seq => {
-                self.slots[id.slot as usize] = Slot::Cancelled { seq: id.seq };
-                self.pending -= 1;
-                true
-            }
-            _ => false,
+        if self.is_pending(id) {
+            self.free(id.slot);
+            self.pending -= 1;
+            true
+        } else {
+            false
         }
     }
 
@@ -233,6 +652,7 @@ impl<T> EventQueue<T> {
         matches!(self.slots.get(id.slot as usize), Some(Slot::Pending { seq, .. }) if *seq == id.seq)
     }
 
+    /// Puts `slot` on the free list and returns what it held.
     fn free(&mut self, slot: u32) -> Slot<T> {
         let old = std::mem::replace(
             &mut self.slots[slot as usize],
@@ -244,42 +664,40 @@ impl<T> EventQueue<T> {
         old
     }
 
-    fn drop_cancelled_top(&mut self) {
-        while let Some(k) = self.heap.peek() {
-            if matches!(self.slots[k.slot as usize], Slot::Cancelled { .. }) {
-                let slot = k.slot;
-                self.heap.pop();
-                self.free(slot);
-            } else {
-                break;
+    /// Where the earliest pending event's entry is, after discarding stale entries before it.
+    #[inline]
+    fn live_min(&mut self) -> Option<Pos> {
+        loop {
+            let pos = self.heap.min_pos()?;
+            if is_live(&self.slots, self.heap.get(pos)) {
+                return Some(pos);
             }
+            // The front entry belongs to a cancelled event: clear its bucket of all such.
+            let slots = &self.slots;
+            self.heap.retain_in(pos.bucket, |e| is_live(slots, e));
         }
     }
 
     /// The time of the earliest pending event.
     pub fn peek_time(&mut self) -> Option<SimTime> {
-        self.drop_cancelled_top();
-        self.heap.peek().map(|k| SimTime::from_nanos(k.time))
+        let pos = self.live_min()?;
+        Some(SimTime::from_nanos(self.heap.get(pos).time))
     }
 
     /// Removes the earliest pending event and advances [`now`](Self::now) to its time.
     pub fn pop(&mut self) -> Option<Popped<T>> {
-        loop {
-            let k = self.heap.pop()?;
-            match self.free(k.slot) {
-                Slot::Pending { seq, payload } => {
-                    self.pending -= 1;
-                    self.now = SimTime::from_nanos(k.time);
-                    return Some(Popped {
-                        time: self.now,
-                        id: EventId { seq, slot: k.slot },
-                        payload,
-                    });
-                }
-                Slot::Cancelled { .. } => continue,
-                Slot::Free { .. } => unreachable!("heap key points at a free slot"),
-            }
-        }
+        let pos = self.live_min()?;
+        let e = self.heap.take_min(pos);
+        let Slot::Pending { seq, payload } = self.free(e.slot) else {
+            unreachable!("a live entry's slot is pending")
+        };
+        self.pending -= 1;
+        self.now = SimTime::from_nanos(e.time);
+        Some(Popped {
+            time: self.now,
+            id: EventId { seq, slot: e.slot },
+            payload,
+        })
     }
 
     /// The pending events in firing order (for snapshots and inspection).
@@ -287,19 +705,19 @@ impl<T> EventQueue<T> {
         let mut v: Vec<_> = self
             .heap
             .iter()
-            .filter_map(|k| match &self.slots[k.slot as usize] {
-                Slot::Pending { seq, payload } => Some((
-                    SimTime::from_nanos(k.time),
+            .filter_map(|e| match &self.slots[e.slot as usize] {
+                Slot::Pending { seq, payload } if *seq == e.seq => Some((
+                    SimTime::from_nanos(e.time),
                     EventId {
-                        seq: *seq,
-                        slot: k.slot,
+                        seq: e.seq,
+                        slot: e.slot,
                     },
                     payload,
                 )),
                 _ => None,
             })
             .collect();
-        v.sort_by_key(|(t, id, _)| (*t, id.seq));
+        v.sort_unstable_by_key(|(t, id, _)| (*t, id.seq));
         v
     }
 }
@@ -307,6 +725,154 @@ impl<T> EventQueue<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    impl RadixHeap {
+        /// Checks the bucket invariant and the cached counts.
+        fn check(&self) {
+            let mut len = 0;
+            let mut chunks = 0;
+            for b in 0..BUCKETS {
+                for e in self.bucket(b) {
+                    assert!(e.key() >= self.last);
+                    assert_eq!(bucket_of(e.key(), self.last), b);
+                    len += 1;
+                }
+                for (i, (_, entries)) in self.chunks_of(b).enumerate() {
+                    assert!(
+                        i == 0 || entries.len() == CHUNK,
+                        "only the head may be partial"
+                    );
+                    chunks += 1;
+                }
+                let marked = self.occupied[b / 64] >> (b % 64) & 1 == 1;
+                assert_eq!(marked, self.bucket(b).next().is_some());
+            }
+            assert_eq!(len, self.len);
+            let mut c = self.free_chunks;
+            while c != NIL {
+                chunks += 1;
+                c = self.chunks[c as usize].next;
+            }
+            assert_eq!(chunks, self.chunks.len(), "every chunk is in one list");
+            for (w, &bits) in self.occupied.iter().enumerate() {
+                assert_eq!(self.summary >> w & 1 == 1, bits != 0);
+            }
+        }
+    }
+
+    #[test]
+    fn buckets_order_keys() {
+        // Bucket numbers grow with the key, for keys above a common `last`.
+        let last = (7u128 << 64) | 1000;
+        let mut keys: Vec<u128> = vec![last, last + 1, last + 15, last + 16, last + 17];
+        keys.extend((0..128).map(|bit| last | (1 << bit)));
+        keys.extend([(8 << 64) | 3, (9 << 64), u128::MAX]);
+        keys.sort_unstable();
+        keys.dedup();
+        let buckets: Vec<usize> = keys.iter().map(|&k| bucket_of(k, last)).collect();
+        assert!(buckets.windows(2).all(|w| w[0] <= w[1]), "{buckets:?}");
+        assert!(buckets.iter().all(|&b| b < BUCKETS));
+        assert_eq!(bucket_of(0, 0), 0);
+        assert_eq!(bucket_of(u128::MAX, 0), BUCKETS - 1);
+    }
+
+    #[test]
+    fn radix_heap_sorts_monotone_keys() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut h = RadixHeap::new(0);
+        let mut reference = std::collections::BTreeSet::new();
+        let mut seq = 0;
+        let mut now = 0u64;
+        for _ in 0..20_000 {
+            if rng.random_bool(0.55) {
+                // Times cluster (many ties) or jump far (high buckets).
+                let time = now
+                    + match rng.random_range(0..3) {
+                        0 => 0,
+                        1 => rng.random_range(0..16),
+                        _ => rng.random_range(0..1 << 40),
+                    };
+                let e = Entry { time, seq, slot: 0 };
+                seq += 1;
+                h.push(e);
+                reference.insert(e.key());
+            } else if let Some(pos) = h.min_pos() {
+                let e = h.take_min(pos);
+                assert_eq!(Some(e.key()), reference.pop_first());
+                now = e.time;
+            } else {
+                assert!(reference.is_empty());
+            }
+            if seq % 64 == 0 {
+                h.check();
+            }
+        }
+        while let Some(pos) = h.min_pos() {
+            assert_eq!(Some(h.take_min(pos).key()), reference.pop_first());
+        }
+        assert!(reference.is_empty());
+        h.check();
+    }
+
+    fn entry(time: u64, seq: u64) -> Entry {
+        Entry { time, seq, slot: 0 }
+    }
+
+    #[test]
+    fn big_bucket_spans_chunks_and_retains() {
+        let mut h = RadixHeap::new(0);
+        // All in one bucket: same highest differing digit (time bit 40) and digit value.
+        for seq in 0..(5 * CHUNK as u64 + 3) {
+            h.push(entry((1 << 40) + 1000 - seq, seq));
+        }
+        let b = h.lowest().unwrap();
+        assert_eq!(h.bucket(b).count(), h.len);
+        assert_eq!(h.chunks.len(), 6);
+        h.check();
+        h.retain_in(b, |e| e.seq % 3 == 0);
+        h.check();
+        assert_eq!(h.len, (5 * CHUNK + 3).div_ceil(3));
+        let mut popped = Vec::new();
+        while let Some(p) = h.min_pos() {
+            popped.push(h.take_min(p).seq);
+            h.check();
+        }
+        // Later seqs have earlier times here.
+        let mut want: Vec<u64> = (0..(5 * CHUNK as u64 + 3)).filter(|s| s % 3 == 0).collect();
+        want.reverse();
+        assert_eq!(popped, want);
+        assert_eq!(h.len, 0);
+    }
+
+    #[test]
+    fn chunk_memory_follows_the_entries() {
+        // A hold model on the bare heap: 20 000 entries, exponential-like spread, many rounds.
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut h = RadixHeap::new(0);
+        let n = 20_000u64;
+        let mut seq = 0;
+        for _ in 0..n {
+            h.push(entry(rng.random_range(0..1 << 30), seq));
+            seq += 1;
+        }
+        for _ in 0..10 * n {
+            let p = h.min_pos().unwrap();
+            let e = h.take_min(p);
+            let dt = (rng.random_range(1u64..1 << 20)).pow(2) >> 10;
+            h.push(entry(e.time + dt, seq));
+            seq += 1;
+        }
+        h.check();
+        let full = n as usize / CHUNK;
+        assert!(
+            h.chunks.len() <= full + full / 2 + BUCKETS / 4,
+            "{} chunks for {} entries",
+            h.chunks.len(),
+            h.len
+        );
+    }
 
     #[test]
     fn equal_time_is_fifo() {
@@ -344,5 +910,165 @@ mod tests {
         let c = q.push(SimTime::from_secs(3), 'c').unwrap();
         assert!(!q.cancel(a));
         assert!(q.is_pending(c));
+    }
+
+    #[test]
+    fn stale_entry_of_a_reused_slot_is_skipped() {
+        let mut q = EventQueue::new();
+        let a = q.push(SimTime::from_secs(1), 'a').unwrap();
+        assert!(q.cancel(a));
+        // Takes a's slot; a's entry (time 1) is still in the heap, now stale.
+        let b = q.push(SimTime::from_secs(5), 'b').unwrap();
+        assert_eq!(b.slot, a.slot);
+        assert_eq!(q.peek_time(), Some(SimTime::from_secs(5)));
+        let p = q.pop().unwrap();
+        assert_eq!((p.id, p.payload), (b, 'b'));
+        assert!(q.pop().is_none());
+        assert!(q.heap.iter().next().is_none(), "the stale entry is gone");
+    }
+
+    #[test]
+    fn cancel_drops_the_payload_at_once() {
+        let token = std::rc::Rc::new(());
+        let mut q = EventQueue::new();
+        let id = q.push(SimTime::from_secs(9), token.clone()).unwrap();
+        assert_eq!(std::rc::Rc::strong_count(&token), 2);
+        assert!(q.cancel(id));
+        assert_eq!(std::rc::Rc::strong_count(&token), 1);
+    }
+
+    #[test]
+    fn peek_then_push_earlier_is_fine() {
+        // peek_time does not advance the heap: an event may still go before the peeked one.
+        let mut q = EventQueue::new();
+        q.push(SimTime::from_secs(10), 10).unwrap();
+        q.pop().unwrap();
+        q.push(SimTime::from_secs(20), 20).unwrap();
+        assert_eq!(q.peek_time(), Some(SimTime::from_secs(20)));
+        q.push(SimTime::from_secs(10), 11).unwrap();
+        q.push(SimTime::from_secs(15), 15).unwrap();
+        let order: Vec<i32> = std::iter::from_fn(|| q.pop().map(|p| p.payload)).collect();
+        assert_eq!(order, [11, 15, 20]);
+    }
+
+    #[test]
+    fn pending_sorted_skips_cancelled() {
+        let mut q = EventQueue::new();
+        let ids: Vec<_> = [3, 1, 2, 1]
+            .iter()
+            .map(|&s| q.push(SimTime::from_secs(s), s).unwrap())
+            .collect();
+        q.cancel(ids[2]);
+        let v: Vec<_> = q
+            .pending_sorted()
+            .into_iter()
+            .map(|(t, id, &p)| (t.as_nanos() / 1_000_000_000, id.seq(), p))
+            .collect();
+        assert_eq!(v, [(1, 1, 1), (1, 3, 1), (3, 0, 3)]);
+    }
+
+    fn round_trip(q: &EventQueue<u32>) -> Result<EventQueue<u32>, postcard::Error> {
+        postcard::from_bytes(&postcard::to_stdvec(q).unwrap())
+    }
+
+    #[test]
+    fn serde_round_trip_continues_identically() {
+        let mut q = EventQueue::new();
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let mut ids = Vec::new();
+        for i in 0..500 {
+            let t = q.now().as_nanos() + rng.random_range(0..1000);
+            ids.push(q.push(SimTime::from_nanos(t), i).unwrap());
+            if i % 3 == 0 {
+                q.pop();
+            }
+            if i % 7 == 0 {
+                q.cancel(ids[rng.random_range(0..ids.len())]);
+            }
+        }
+        let mut r = round_trip(&q).unwrap();
+        assert_eq!(r.len(), q.len());
+        for i in 0..2000u32 {
+            if i % 2 == 0 {
+                let t = SimTime::from_nanos(q.now().as_nanos() + u64::from(i % 50));
+                assert_eq!(q.push(t, i), r.push(t, i));
+            }
+            if i % 11 == 0 {
+                let id = ids[i as usize % ids.len()];
+                assert_eq!(q.cancel(id), r.cancel(id));
+            }
+            assert_eq!(q.peek_time(), r.peek_time());
+            assert_eq!(q.pop(), r.pop());
+        }
+    }
+
+    type State = (SimTime, u64, Vec<Entry>, Vec<Slot<u32>>, u32);
+
+    fn decode(state: &State) -> Result<EventQueue<u32>, postcard::Error> {
+        postcard::from_bytes(&postcard::to_stdvec(state).unwrap())
+    }
+
+    #[test]
+    fn serialized_form_is_canonical() {
+        let mut q: EventQueue<u32> = EventQueue::new();
+        let a = q.push(SimTime::from_secs(1), 1).unwrap();
+        q.push(SimTime::from_secs(2), 2).unwrap();
+        q.cancel(a);
+        let state: State = (
+            SimTime::ZERO,
+            2,
+            vec![Entry {
+                time: 2_000_000_000,
+                seq: 1,
+                slot: 1,
+            }],
+            vec![
+                Slot::Free { next_free: NO_FREE },
+                Slot::Pending { seq: 1, payload: 2 },
+            ],
+            0,
+        );
+        // The stale entry of the cancelled event is not written.
+        let bytes = postcard::to_stdvec(&q).unwrap();
+        assert_eq!(bytes, postcard::to_stdvec(&state).unwrap());
+        // Reading and writing again gives the same bytes, though the buckets differ inside.
+        let r = decode(&state).unwrap();
+        assert_eq!(postcard::to_stdvec(&r).unwrap(), bytes);
+    }
+
+    #[test]
+    fn corrupt_state_is_refused() {
+        let good: State = (
+            SimTime::ZERO,
+            2,
+            vec![Entry {
+                time: 2_000_000_000,
+                seq: 1,
+                slot: 1,
+            }],
+            vec![
+                Slot::Free { next_free: NO_FREE },
+                Slot::Pending { seq: 1, payload: 2 },
+            ],
+            0,
+        );
+        assert!(decode(&good).is_ok());
+        let bad = |f: &dyn Fn(&mut State)| {
+            let mut s = good.clone();
+            f(&mut s);
+            decode(&s).is_err()
+        };
+        assert!(bad(&|s| s.2[0].slot = 7), "event pointing past the slab");
+        assert!(bad(&|s| s.2[0].seq = 0), "event not the one its slot holds");
+        assert!(bad(&|s| s.2.push(s.2[0])), "one event twice");
+        assert!(bad(&|s| s.2.clear()), "pending slot without an event");
+        assert!(bad(&|s| s.4 = NO_FREE), "free slot off the free list");
+        assert!(bad(&|s| s.4 = 1), "free list through a pending slot");
+        assert!(
+            bad(&|s| s.3[0] = Slot::Free { next_free: 0 }),
+            "free list cycle"
+        );
+        assert!(bad(&|s| s.1 = 1), "sequence number not issued yet");
+        assert!(bad(&|s| s.0 = SimTime::from_secs(3)), "event before now");
     }
 }
