@@ -5,11 +5,15 @@
 //! vitro validate SCENARIO
 //! vitro plan DOMAIN PROBLEM [--optimal] [--json]
 //! vitro solve cops GRAPH.edges [--json]
+//! vitro map info FILE.osm.pbf [--json]
+//! vitro map render FILE.osm.pbf --out map.png [--terrain GRID] [--offset X,Y]
+//! vitro terrain viewshed GRID --observer X,Y --observer-height H --target-height T --out MASK.asc
 //! ```
 //!
 //! Exit codes: 0 success, 1 runtime error, 2 bad input (unreadable or malformed scenario,
 //! value out of range, bad arguments), 4 the answer is a failure (no plan exists).
 
+mod map;
 mod plan;
 mod run;
 mod solve;
@@ -36,6 +40,12 @@ enum Command {
     /// Solves a game: `vitro solve cops GRAPH.edges`.
     #[command(subcommand)]
     Solve(solve::SolveCommand),
+    /// Views of a map: `vitro map info FILE.osm.pbf`, `vitro map render FILE --out map.png`.
+    #[command(subcommand)]
+    Map(map::MapCommand),
+    /// Terrain analysis: `vitro terrain viewshed FILE --observer X,Y ...`.
+    #[command(subcommand)]
+    Terrain(map::TerrainCommand),
     /// Checks a scenario file without running it.
     Validate {
         /// The scenario file (TOML).
@@ -61,6 +71,8 @@ fn main() -> ExitCode {
         Command::Validate { scenario } => run::validate(&scenario),
         Command::Plan(args) => plan::plan(&args),
         Command::Solve(cmd) => solve::solve(&cmd),
+        Command::Map(cmd) => map::map(&cmd),
+        Command::Terrain(cmd) => map::terrain(&cmd),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
