@@ -13,6 +13,7 @@
 //! Exit codes: 0 success, 1 runtime error, 2 bad input (unreadable or malformed scenario,
 //! value out of range, bad arguments), 4 the answer is a failure (no plan exists).
 
+mod batch;
 mod map;
 mod plan;
 mod run;
@@ -46,6 +47,12 @@ enum Command {
     /// Terrain analysis: `vitro terrain viewshed FILE --observer X,Y ...`.
     #[command(subcommand)]
     Terrain(map::TerrainCommand),
+    /// Runs an experiment: a parameter sweep of a scenario, in parallel, resumable.
+    Batch(batch::BatchArgs),
+    /// Joins result directories (the shards) of one experiment into one.
+    Merge(batch::MergeArgs),
+    /// Plots a result directory (PNG and SVG).
+    Plot(batch::PlotArgs),
     /// Checks a scenario file without running it.
     Validate {
         /// The scenario file (TOML).
@@ -69,6 +76,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => run::run(&args),
         Command::Validate { scenario } => run::validate(&scenario),
+        Command::Batch(args) => batch::batch(&args),
+        Command::Merge(args) => batch::merge_dirs(&args),
+        Command::Plot(args) => batch::plot(&args),
         Command::Plan(args) => plan::plan(&args),
         Command::Solve(cmd) => solve::solve(&cmd),
         Command::Map(cmd) => map::map(&cmd),

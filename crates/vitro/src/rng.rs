@@ -21,7 +21,6 @@ use crate::trace::{TraceHasher, stable_str_hash};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 
 /// Who owns a random stream.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -33,10 +32,13 @@ pub enum Owner {
 }
 
 /// The set of named random streams of one run.
+///
+/// Streams are kept per owner (the simulation first, then entities by id), each owner's in
+/// order of first use: a lookup is an index and a scan of that owner's few purposes.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RngStreams {
     master: u64,
-    streams: BTreeMap<(Owner, u64), ChaCha8Rng>,
+    streams: Vec<Vec<(Box<str>, ChaCha8Rng)>>,
 }
 
 impl RngStreams {
@@ -44,7 +46,7 @@ impl RngStreams {
     pub fn new(master_seed: u64) -> Self {
         RngStreams {
             master: master_seed,
-            streams: BTreeMap::new(),
+            streams: Vec::new(),
         }
     }
 
@@ -55,11 +57,24 @@ impl RngStreams {
 
     /// The stream for (owner, purpose), created on first use.
     pub fn stream(&mut self, owner: Owner, purpose: &str) -> &mut ChaCha8Rng {
-        let key = (owner, stable_str_hash(purpose));
-        let master = self.master;
-        self.streams
-            .entry(key)
-            .or_insert_with(|| ChaCha8Rng::from_seed(derive_seed(master, owner, key.1)))
+        let slot = match owner {
+            Owner::Global => 0,
+            Owner::Entity(e) => e.index() + 1,
+        };
+        if self.streams.len() <= slot {
+            self.streams.resize_with(slot + 1, Vec::new);
+        }
+        let list = &mut self.streams[slot];
+        // Owners use few purposes: comparing the names beats hashing them on every draw.
+        let i = match list.iter().position(|(k, _)| **k == *purpose) {
+            Some(i) => i,
+            None => {
+                let seed = derive_seed(self.master, owner, stable_str_hash(purpose));
+                list.push((purpose.into(), ChaCha8Rng::from_seed(seed)));
+                list.len() - 1
+            }
+        };
+        &mut list[i].1
     }
 
     /// A stream for (owner, purpose) independent of this set's state: same seed as

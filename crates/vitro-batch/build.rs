@@ -1,0 +1,41 @@
+//! Records the git commit being built (`VITRO_GIT_HASH`, or `unknown` outside a git
+//! checkout) for result manifests, and rebuilds when HEAD moves.
+
+use std::path::Path;
+use std::process::Command;
+
+fn git(args: &[&str]) -> Option<String> {
+    let out = Command::new("git")
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .ok()?;
+    if !out.status.success() {
+        return None;
+    }
+    let s = String::from_utf8(out.stdout).ok()?.trim().to_owned();
+    (!s.is_empty()).then_some(s)
+}
+
+fn main() {
+    let hash = git(&["rev-parse", "HEAD"])
+        .filter(|h| h.len() == 40 && h.chars().all(|c| c.is_ascii_hexdigit()))
+        .unwrap_or_else(|| "unknown".to_owned());
+    println!("cargo:rustc-env=VITRO_GIT_HASH={hash}");
+    // Rebuild when HEAD points elsewhere or its branch moves.
+    if let Some(dir) = git(&["rev-parse", "--absolute-git-dir"]) {
+        let dir = Path::new(&dir);
+        println!("cargo:rerun-if-changed={}", dir.join("HEAD").display());
+        let common = git(&["rev-parse", "--git-common-dir"])
+            .map(|c| Path::new(env!("CARGO_MANIFEST_DIR")).join(c))
+            .unwrap_or_else(|| dir.to_owned());
+        println!(
+            "cargo:rerun-if-changed={}",
+            common.join("packed-refs").display()
+        );
+        if let Some(head_ref) = git(&["symbolic-ref", "-q", "HEAD"]) {
+            println!("cargo:rerun-if-changed={}", common.join(head_ref).display());
+        }
+    }
+    println!("cargo:rerun-if-changed=build.rs");
+}

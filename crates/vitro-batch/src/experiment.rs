@@ -1,0 +1,673 @@
+//! The experiment file: which scenario, which parameters to vary and how, how many
+//! replicates, what to keep. [`Experiment::load`] reads one and checks it against its scenario.
+//!
+//! ```toml
+//! name = "loss and fleet size"
+//! scenario = "../scenarios/demo.toml"   # relative to this file
+//! seed = 1                              # every run's seed derives from it
+//! replicates = 5
+//! end_s = 3600.0                        # overrides the scenario's end time
+//!
+//! [parameters]                          # full factorial, in this order
+//! "channel.loss" = [0.0, 0.2, 0.4]      # explicit levels
+//! "cars.count" = { start = 2, stop = 8, step = 2 }   # a range, stop included
+//!
+//! [latin_hypercube]                     # optional: n points over intervals
+//! samples = 10
+//! intervals = { "cars.speed_mps" = [5.0, 20.0] }
+//!
+//! [keep]
+//! metrics = ["mean_idleness_s", "max_idleness_s"]   # default: all
+//! series = ["mean_idleness_s"]                      # sampled over time
+//! every_s = 60.0
+//! ```
+
+use crate::design::{Design, Factor, Interval, Origin};
+use crate::diag::{Located, key_offset};
+use crate::runner::{Keep, Runner};
+use crate::value::Value;
+use schemars::JsonSchema;
+use serde::de::{self, MapAccess, SeqAccess, Visitor};
+use serde::{Deserialize, Deserializer};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Most runs one experiment may plan.
+pub const MAX_RUNS: u64 = 10_000_000;
+/// Most levels one range may produce.
+pub const MAX_LEVELS: u64 = 100_000;
+/// Column names of the summary and series tables that parameters and metrics may not take.
+pub const RESERVED_COLUMNS: [&str; 8] = [
+    "run",
+    "point",
+    "replicate",
+    "seed",
+    "status",
+    "error",
+    "wall_s",
+    "t_s",
+];
+
+/// A Vitro experiment: a scenario, the parameters to vary, the replicates and seeds, and
+/// what to keep of each run (the [module docs](self) show a file).
+#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(title = "Vitro experiment")]
+pub struct ExperimentFile {
+    /// A short name for reports and plots (default: the file's stem).
+    pub name: Option<String>,
+    /// Free text: what the experiment asks.
+    pub description: Option<String>,
+    /// The scenario file (TOML), relative to the experiment file.
+    pub scenario: String,
+    /// Base seed: run k's seed is derived from it and k alone.
+    pub seed: u64,
+    /// Runs per combination of parameter levels (at least 1).
+    #[serde(default = "one")]
+    pub replicates: u32,
+    /// Derive seeds from the replicate number instead of the run number, so that every
+    /// combination sees the same seeds (common random numbers, for paired comparisons).
+    #[serde(default)]
+    pub common_random_numbers: bool,
+    /// Simulated time at which every run stops, in seconds (overrides the scenario's).
+    pub end_s: Option<f64>,
+    /// Parameters to vary, by dotted scenario key (`"channel.loss"`): a list of levels or a
+    /// range `{ start, stop, step }` (stop included). The runs are their full factorial, the
+    /// first parameter varying slowest.
+    #[serde(default)]
+    pub parameters: BTreeMap<String, Levels>,
+    /// A Latin-hypercube sample over intervals of other parameters, crossed with the above.
+    pub latin_hypercube: Option<LatinHypercube>,
+    /// Which metrics and time series to keep.
+    #[serde(default)]
+    pub keep: KeepFile,
+}
+
+fn one() -> u32 {
+    1
+}
+
+/// The levels of one parameter: explicit values or a range.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Levels {
+    /// Explicit levels, in order.
+    List(Vec<Value>),
+    /// Evenly spaced levels from `start` to `stop` (included) by `step`.
+    Range(RangeSpec),
+}
+
+/// `{ start, stop, step }`: integers give integer levels; floats are rounded to the decimals
+/// written in `start` and `step`, so `0.0..=0.3 by 0.1` gives `0.3`, not `0.30000000000000004`.
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RangeSpec {
+    /// First level.
+    pub start: Number,
+    /// Last level (included when a whole number of steps away).
+    pub stop: Number,
+    /// Distance between levels (positive).
+    pub step: Number,
+}
+
+/// A number as written: integer or float.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Number {
+    /// An integer.
+    Int(i64),
+    /// A float.
+    Float(f64),
+}
+
+impl Number {
+    fn get(self) -> f64 {
+        match self {
+            Number::Int(i) => i as f64,
+            Number::Float(f) => f,
+        }
+    }
+}
+
+/// A Latin-hypercube sample: `samples` points; each interval is cut into `samples` equal
+/// strata and every stratum holds exactly one point, placed at random (from the base seed).
+#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LatinHypercube {
+    /// Number of points (at least 1).
+    pub samples: u32,
+    /// `[low, high]` of each sampled parameter, by dotted scenario key. Integer keys get
+    /// rounded samples.
+    pub intervals: BTreeMap<String, [f64; 2]>,
+}
+
+/// What to keep of each run.
+#[derive(Clone, Debug, Default, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct KeepFile {
+    /// Metrics of the summary table (default: every metric the runner reports).
+    pub metrics: Option<Vec<String>>,
+    /// Metrics sampled over simulated time into the series table (default: none).
+    #[serde(default)]
+    pub series: Vec<String>,
+    /// Sampling period of the series, in simulated seconds (needed with `series`).
+    pub every_s: Option<f64>,
+}
+
+/// Why an experiment could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum ExperimentError {
+    /// A file could not be read.
+    #[error("cannot read {file}")]
+    Read {
+        /// The file.
+        file: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The experiment or its scenario is malformed.
+    #[error("{0}")]
+    Invalid(Box<Located>),
+    /// The runner rejected the scenario.
+    #[error("invalid scenario {file}: {message}")]
+    Scenario {
+        /// The scenario file.
+        file: String,
+        /// The runner's message.
+        message: String,
+    },
+}
+
+/// A checked experiment: its sources, its scenario, its design and what to keep.
+#[derive(Clone, Debug)]
+pub struct Experiment {
+    /// Name for reports.
+    pub name: String,
+    /// The experiment file.
+    pub path: PathBuf,
+    /// The experiment file's bytes (hashed into the manifest).
+    pub source: String,
+    /// The scenario file.
+    pub scenario_path: PathBuf,
+    /// The scenario file's bytes.
+    pub scenario_source: String,
+    /// The scenario, parsed.
+    pub scenario: toml::Table,
+    /// The runs to make.
+    pub design: Design,
+    /// End time override, in simulated seconds.
+    pub end_s: Option<f64>,
+    /// What to keep.
+    pub keep: Keep,
+}
+
+impl Experiment {
+    /// Reads the experiment at `path` and its scenario, and checks both (the scenario with
+    /// `runner`, which also names the metrics that may be kept).
+    pub fn load(path: &Path, runner: &dyn Runner) -> Result<Self, ExperimentError> {
+        let source = read(path)?;
+        let file: ExperimentFile = toml::from_str(&source).map_err(|e| {
+            ExperimentError::Invalid(Box::new(Located::from_toml(
+                &path.display().to_string(),
+                &source,
+                &e,
+            )))
+        })?;
+        let base = path.parent().unwrap_or(Path::new(""));
+        let scenario_path = base.join(&file.scenario);
+        let scenario_source = read(&scenario_path)?;
+        Self::check(file, path, source, scenario_path, scenario_source, runner)
+    }
+
+    fn check(
+        file: ExperimentFile,
+        path: &Path,
+        source: String,
+        scenario_path: PathBuf,
+        scenario_source: String,
+        runner: &dyn Runner,
+    ) -> Result<Self, ExperimentError> {
+        let name_of_file = path.display().to_string();
+        let err = |keys: &[&str], message: String| {
+            ExperimentError::Invalid(Box::new(Located::at_key(
+                &name_of_file,
+                &source,
+                keys,
+                message,
+            )))
+        };
+        let sc_file = scenario_path.display().to_string();
+        let scenario: toml::Table = toml::from_str(&scenario_source).map_err(|e| {
+            ExperimentError::Invalid(Box::new(Located::from_toml(&sc_file, &scenario_source, &e)))
+        })?;
+
+        if file.replicates == 0 {
+            return Err(err(&["replicates"], "expected at least 1 replicate".into()));
+        }
+        if let Some(end) = file.end_s {
+            if !(end > 0.0 && end.is_finite()) {
+                return Err(err(
+                    &["end_s"],
+                    format!("invalid end time {end}, expected a positive number of seconds"),
+                ));
+            }
+        }
+
+        // Factors, in the order they are written.
+        let mut named: Vec<(&String, &Levels)> = file.parameters.iter().collect();
+        named.sort_by_key(|(p, _)| key_offset(&source, &["parameters", p]));
+        let mut factors = Vec::with_capacity(named.len());
+        for (p, levels) in named {
+            let keys = ["parameters", p.as_str()];
+            let kind = scenario_kind(&scenario, p).map_err(|m| err(&keys, m))?;
+            let (origin, raw) = match levels {
+                Levels::List(v) => (Origin::List, v.clone()),
+                Levels::Range(r) => (Origin::Range, range_levels(r).map_err(|m| err(&keys, m))?),
+            };
+            if raw.is_empty() {
+                return Err(err(&keys, format!("`{p}` needs at least one level")));
+            }
+            let mut levels = Vec::with_capacity(raw.len());
+            for v in &raw {
+                let v = coerce(v, &kind, p).map_err(|m| err(&keys, m))?;
+                if levels.contains(&v) {
+                    return Err(err(&keys, format!("level {v} of `{p}` appears twice")));
+                }
+                levels.push(v);
+            }
+            factors.push(Factor {
+                path: p.clone(),
+                origin,
+                levels,
+            });
+        }
+
+        let mut lhs = None;
+        if let Some(l) = &file.latin_hypercube {
+            if l.samples == 0 {
+                return Err(err(
+                    &["latin_hypercube", "samples"],
+                    "expected at least 1 sample".into(),
+                ));
+            }
+            if l.intervals.is_empty() {
+                return Err(err(
+                    &["latin_hypercube", "intervals"],
+                    "expected at least one interval".into(),
+                ));
+            }
+            let mut dims: Vec<(&String, &[f64; 2])> = l.intervals.iter().collect();
+            dims.sort_by_key(|(p, _)| key_offset(&source, &["latin_hypercube", "intervals", p]));
+            let mut checked = Vec::with_capacity(dims.len());
+            for (p, &[lo, hi]) in dims {
+                let keys = ["latin_hypercube", "intervals", p.as_str()];
+                if file.parameters.contains_key(p) {
+                    return Err(err(
+                        &keys,
+                        format!("`{p}` is already varied under [parameters]"),
+                    ));
+                }
+                let kind = scenario_kind(&scenario, p).map_err(|m| err(&keys, m))?;
+                let integer = match kind {
+                    Value::Int(_) => true,
+                    Value::Float(_) => false,
+                    _ => {
+                        return Err(err(
+                            &keys,
+                            format!(
+                                "`{p}` is {} in the scenario; only numbers can be sampled",
+                                kind.kind()
+                            ),
+                        ));
+                    }
+                };
+                if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                    return Err(err(
+                        &keys,
+                        format!(
+                            "invalid interval [{lo}, {hi}], expected [low, high] with low < high"
+                        ),
+                    ));
+                }
+                checked.push(Interval {
+                    path: p.clone(),
+                    low: lo,
+                    high: hi,
+                    integer,
+                });
+            }
+            lhs = Some((l.samples, checked));
+        }
+
+        let design = Design::new(
+            factors,
+            lhs,
+            file.replicates,
+            file.seed,
+            file.common_random_numbers,
+        );
+        if design.runs().is_none_or(|n| n > MAX_RUNS) {
+            return Err(err(
+                &["parameters"],
+                format!("too many runs: at most {MAX_RUNS} per experiment"),
+            ));
+        }
+
+        let available =
+            runner
+                .metric_names(&scenario)
+                .map_err(|message| ExperimentError::Scenario {
+                    file: sc_file.clone(),
+                    message,
+                })?;
+        let unknown = |list: &[String], keys: &[&str]| -> Result<(), ExperimentError> {
+            match list.iter().find(|m| !available.contains(m)) {
+                Some(m) => Err(err(
+                    keys,
+                    format!(
+                        "unknown metric `{m}`, expected one of: {}",
+                        available.join(", ")
+                    ),
+                )),
+                None => Ok(()),
+            }
+        };
+        let metrics = match &file.keep.metrics {
+            Some(m) => {
+                unknown(m, &["keep", "metrics"])?;
+                m.clone()
+            }
+            None => available.clone(),
+        };
+        unknown(&file.keep.series, &["keep", "series"])?;
+        let every_s = match (file.keep.every_s, file.keep.series.is_empty()) {
+            (Some(e), _) if !(e > 0.0 && e.is_finite()) => {
+                return Err(err(
+                    &["keep", "every_s"],
+                    format!("invalid period {e}, expected a positive number of seconds"),
+                ));
+            }
+            (None, false) => {
+                return Err(err(
+                    &["keep", "series"],
+                    "a sampling period `every_s` is needed to keep series".into(),
+                ));
+            }
+            (e, _) => e,
+        };
+        let keep = Keep {
+            metrics,
+            series: file.keep.series.clone(),
+            every_s,
+        };
+
+        // Every column name once.
+        let mut columns: Vec<&str> = RESERVED_COLUMNS.to_vec();
+        for name in design
+            .parameter_names()
+            .iter()
+            .map(String::as_str)
+            .chain(keep.metrics.iter().map(String::as_str))
+        {
+            if columns.contains(&name) {
+                return Err(err(
+                    &["keep"],
+                    format!("column `{name}` would appear twice in the summary table"),
+                ));
+            }
+            columns.push(name);
+        }
+
+        let name = file.name.clone().unwrap_or_else(|| {
+            path.file_stem().map_or_else(
+                || "experiment".to_owned(),
+                |s| s.to_string_lossy().into_owned(),
+            )
+        });
+        Ok(Experiment {
+            name,
+            path: path.to_owned(),
+            source,
+            scenario_path,
+            scenario_source,
+            scenario,
+            design,
+            end_s: file.end_s,
+            keep,
+        })
+    }
+
+    /// The scenario of one run: the base scenario with the run's parameter levels set.
+    pub fn scenario_for(&self, params: &[(String, Value)]) -> toml::Table {
+        let mut table = self.scenario.clone();
+        for (path, v) in params {
+            set_path(&mut table, path, v.to_toml());
+        }
+        table
+    }
+}
+
+fn read(path: &Path) -> Result<String, ExperimentError> {
+    std::fs::read_to_string(path).map_err(|source| ExperimentError::Read {
+        file: path.display().to_string(),
+        source,
+    })
+}
+
+/// The scalar at dotted `path` of the scenario (its kind decides how levels are coerced).
+fn scenario_kind(scenario: &toml::Table, path: &str) -> Result<Value, String> {
+    let mut table = scenario;
+    let parts: Vec<&str> = path.split('.').collect();
+    let Some((last, parents)) = parts.split_last() else {
+        return Err("empty parameter path".into());
+    };
+    for (i, part) in parents.iter().enumerate() {
+        match table.get(*part) {
+            Some(toml::Value::Table(t)) => table = t,
+            Some(_) => {
+                return Err(format!(
+                    "unknown scenario key `{path}`: `{}` is not a table",
+                    parts[..=i].join(".")
+                ));
+            }
+            None => return Err(unknown_key(path, &parts[..i], table)),
+        }
+    }
+    match table.get(*last) {
+        None => Err(unknown_key(path, parents, table)),
+        Some(toml::Value::Table(_)) => Err(format!(
+            "`{path}` is a table in the scenario; vary one of its keys, e.g. `{path}.<key>`"
+        )),
+        Some(v) => Value::from_toml(v).ok_or_else(|| {
+            format!("`{path}` is not a number, a boolean or a string in the scenario")
+        }),
+    }
+}
+
+fn unknown_key(path: &str, parent: &[&str], table: &toml::Table) -> String {
+    let prefix = if parent.is_empty() {
+        String::new()
+    } else {
+        format!("{}.", parent.join("."))
+    };
+    let keys: Vec<String> = table.keys().map(|k| format!("{prefix}{k}")).collect();
+    format!(
+        "unknown scenario key `{path}` (the scenario must set a key to vary it); keys here: {}",
+        keys.join(", ")
+    )
+}
+
+/// Sets the value at dotted `path`, which [`scenario_kind`] found.
+fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) {
+    let mut parts = path.split('.').peekable();
+    let mut table = table;
+    while let Some(part) = parts.next() {
+        if parts.peek().is_none() {
+            table.insert(part.to_owned(), value);
+            return;
+        }
+        match table.get_mut(part) {
+            Some(toml::Value::Table(t)) => table = t,
+            _ => return,
+        }
+    }
+}
+
+/// A level in the scenario key's own type: integers where the scenario has an integer
+/// (whole floats accepted), floats where it has a float.
+fn coerce(v: &Value, kind: &Value, path: &str) -> Result<Value, String> {
+    match (kind, v) {
+        (Value::Int(_), Value::Int(_))
+        | (Value::Float(_), Value::Float(_))
+        | (Value::Bool(_), Value::Bool(_))
+        | (Value::Text(_), Value::Text(_)) => Ok(v.clone()),
+        (Value::Int(_), Value::Float(f)) if f.fract() == 0.0 && f.abs() < 9.0e15 => {
+            Ok(Value::Int(*f as i64))
+        }
+        (Value::Float(_), Value::Int(i)) => Ok(Value::Float(*i as f64)),
+        _ => Err(format!(
+            "level {v} of `{path}` is {}, but the scenario's value is {}",
+            v.kind(),
+            kind.kind()
+        )),
+    }
+}
+
+/// The levels of a range.
+fn range_levels(r: &RangeSpec) -> Result<Vec<Value>, String> {
+    if let (Number::Int(start), Number::Int(stop), Number::Int(step)) = (r.start, r.stop, r.step) {
+        if step <= 0 || stop < start {
+            return Err(format!(
+                "invalid range {start}..={stop} by {step}, expected start <= stop and step > 0"
+            ));
+        }
+        let n = (i128::from(stop) - i128::from(start)) / i128::from(step) + 1;
+        if n > i128::from(MAX_LEVELS) {
+            return Err(format!(
+                "range has {n} levels, at most {MAX_LEVELS} allowed"
+            ));
+        }
+        return Ok((0..n as i64)
+            .map(|i| Value::Int(start + i * step))
+            .collect());
+    }
+    let (start, stop, step) = (r.start.get(), r.stop.get(), r.step.get());
+    if !(start.is_finite() && stop.is_finite() && step.is_finite() && step > 0.0 && stop >= start) {
+        return Err(format!(
+            "invalid range {start}..={stop} by {step}, expected start <= stop and step > 0"
+        ));
+    }
+    let steps = ((stop - start) / step * (1.0 + 1e-12) + 1e-9).floor();
+    if steps + 1.0 > MAX_LEVELS as f64 {
+        return Err(format!(
+            "range has too many levels, at most {MAX_LEVELS} allowed"
+        ));
+    }
+    let decimals = decimals(start).max(decimals(step));
+    let scale = 10f64.powi(decimals as i32);
+    Ok((0..=steps as u64)
+        .map(|i| {
+            let x = start + i as f64 * step;
+            Value::Float(if decimals < 15 {
+                (x * scale).round() / scale
+            } else {
+                x
+            })
+        })
+        .collect())
+}
+
+/// Digits after the decimal point in the shortest form of `x` (at most 15).
+fn decimals(x: f64) -> usize {
+    let s = format!("{x}");
+    s.split_once('.').map_or(0, |(_, frac)| frac.len()).min(15)
+}
+
+impl<'de> Deserialize<'de> for Levels {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Levels;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a list of levels or a range { start, stop, step }")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Levels, A::Error> {
+                let mut out = Vec::new();
+                while let Some(v) = seq.next_element::<Value>()? {
+                    out.push(v);
+                }
+                Ok(Levels::List(out))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Levels, A::Error> {
+                RangeSpec::deserialize(de::value::MapAccessDeserializer::new(map))
+                    .map(Levels::Range)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl JsonSchema for Levels {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Levels".into()
+    }
+    fn json_schema(g: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        let value = g.subschema_for::<Value>();
+        let range = g.subschema_for::<RangeSpec>();
+        schemars::json_schema!({
+            "description": "A list of levels, or a range { start, stop, step } (stop included).",
+            "oneOf": [
+                { "type": "array", "items": value, "minItems": 1 },
+                range
+            ]
+        })
+    }
+}
+
+impl<'de> Deserialize<'de> for Number {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = Number;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a number")
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Number, E> {
+                Ok(Number::Int(v))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Number, E> {
+                i64::try_from(v)
+                    .map(Number::Int)
+                    .map_err(|_| E::custom("integer too large"))
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Number, E> {
+                Ok(Number::Float(v))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl JsonSchema for Number {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Number".into()
+    }
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({ "type": "number" })
+    }
+}
+
+/// The JSON Schema of experiment files (pretty-printed), for editors and validators.
+///
+/// ```
+/// let schema = vitro_batch::experiment_schema();
+/// assert!(schema.contains("\"replicates\""));
+/// ```
+pub fn experiment_schema() -> String {
+    let schema = schemars::schema_for!(ExperimentFile);
+    // A schema is plain JSON: serialising it cannot fail.
+    serde_json::to_string_pretty(&schema).unwrap_or_default() + "\n"
+}
+
+#[cfg(test)]
+#[path = "experiment_tests.rs"]
+mod tests;

@@ -1,0 +1,348 @@
+//! `manifest.json`: what a result directory holds and how it was made: the Vitro version and
+//! git hash, hashes of the experiment and scenario files, the design, every run's seed and
+//! status, and each session (start or resume) with its times.
+
+use crate::design::{Origin, Shard, seed_of};
+use crate::experiment::Experiment;
+use crate::journal::{RunRecord, Status};
+use crate::runner::Keep;
+use crate::value::Value;
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::{SystemTime, UNIX_EPOCH};
+
+/// Name of the manifest file in a result directory.
+pub const MANIFEST_FILE: &str = "manifest.json";
+/// Version of the manifest layout.
+pub const FORMAT: u32 = 1;
+/// The git commit this crate was built from (`git rev-parse HEAD` at build time), or
+/// `unknown`.
+pub const GIT_HASH: &str = env!("VITRO_GIT_HASH");
+/// The Vitro version.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// A source file: where it was and the SHA-256 of its bytes.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FileInfo {
+    /// Path as given.
+    pub path: String,
+    /// SHA-256 of the bytes, hex.
+    pub sha256: String,
+}
+
+/// A varied parameter.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ParamInfo {
+    /// Dotted scenario key: the column name.
+    pub path: String,
+    /// Where the levels came from.
+    pub origin: Origin,
+    /// Levels (for a hypercube: the sampled values, point by point).
+    pub levels: Vec<Value>,
+}
+
+/// One invocation that wrote into the directory.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Session {
+    /// Start, RFC 3339 UTC.
+    pub started: String,
+    /// End, RFC 3339 UTC (absent if it was killed).
+    pub finished: Option<String>,
+    /// Vitro version.
+    pub vitro_version: String,
+    /// Git commit of the build.
+    pub git_hash: String,
+    /// Worker threads (0 for a merge).
+    pub jobs: usize,
+    /// Runs it completed.
+    pub runs_done: u64,
+}
+
+/// A run's seed and status.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RunEntry {
+    /// Run number.
+    pub run: u64,
+    /// Seed.
+    pub seed: u64,
+    /// `ok`, `failed` or `pending` (not run yet).
+    pub status: String,
+}
+
+/// The manifest of a result directory.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Manifest {
+    /// Layout version ([`FORMAT`]).
+    pub format: u32,
+    /// Experiment name.
+    pub name: String,
+    /// The experiment file.
+    pub experiment: FileInfo,
+    /// The scenario file.
+    pub scenario: FileInfo,
+    /// Base seed.
+    pub base_seed: u64,
+    /// Runs per point.
+    pub replicates: u32,
+    /// Seeds per replicate rather than per run.
+    pub common_random_numbers: bool,
+    /// End time override.
+    pub end_s: Option<f64>,
+    /// Varied parameters, in column order.
+    pub parameters: Vec<ParamInfo>,
+    /// Kept metrics and series.
+    pub keep: Keep,
+    /// Runs in the whole experiment.
+    pub runs_total: u64,
+    /// The share of runs this directory is for (`None`: all of them).
+    pub shard: Option<Shard>,
+    /// Directories merged into this one.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub merged_from: Vec<String>,
+    /// Sessions that wrote here, oldest first.
+    pub sessions: Vec<Session>,
+    /// Every run of the directory's share: seed and status.
+    pub runs: Vec<RunEntry>,
+}
+
+/// Why a manifest could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum ManifestError {
+    /// An I/O error.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Not a manifest of this format.
+    #[error("{path}: not a Vitro result manifest: {message}")]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl Manifest {
+    /// A new manifest for `exp` (shard `shard`), with no session and every run pending.
+    pub fn new(exp: &Experiment, shard: Option<Shard>) -> Self {
+        let d = &exp.design;
+        let mut parameters: Vec<ParamInfo> = d
+            .factors
+            .iter()
+            .map(|f| ParamInfo {
+                path: f.path.clone(),
+                origin: f.origin,
+                levels: f.levels.clone(),
+            })
+            .collect();
+        if let Some(h) = &d.hypercube {
+            for (i, p) in h.paths.iter().enumerate() {
+                parameters.push(ParamInfo {
+                    path: p.clone(),
+                    origin: Origin::LatinHypercube,
+                    levels: h.points.iter().map(|row| row[i].clone()).collect(),
+                });
+            }
+        }
+        let total = d.runs().unwrap_or(0);
+        let share = shard.unwrap_or(Shard::ALL);
+        let mut m = Manifest {
+            format: FORMAT,
+            name: exp.name.clone(),
+            experiment: file_info(&exp.path, exp.source.as_bytes()),
+            scenario: file_info(&exp.scenario_path, exp.scenario_source.as_bytes()),
+            base_seed: d.base_seed,
+            replicates: d.replicates,
+            common_random_numbers: d.common_random_numbers,
+            end_s: exp.end_s,
+            parameters,
+            keep: exp.keep.clone(),
+            runs_total: total,
+            shard,
+            merged_from: Vec::new(),
+            sessions: Vec::new(),
+            runs: Vec::new(),
+        };
+        m.plan_runs((0..total).filter(|&k| share.contains(k)));
+        m
+    }
+
+    /// Sets the runs of the directory's share: each with its seed, pending.
+    pub fn plan_runs(&mut self, runs: impl Iterator<Item = u64>) {
+        let reps = u64::from(self.replicates.max(1));
+        let (base, crn) = (self.base_seed, self.common_random_numbers);
+        self.runs = runs
+            .map(|k| RunEntry {
+                run: k,
+                seed: seed_of(base, if crn { k % reps } else { k }),
+                status: "pending".into(),
+            })
+            .collect();
+    }
+
+    /// Whether `other` is of the same experiment: same experiment and scenario bytes.
+    pub fn same_experiment(&self, other: &Manifest) -> bool {
+        self.experiment.sha256 == other.experiment.sha256
+            && self.scenario.sha256 == other.scenario.sha256
+    }
+
+    /// Sets every run's status from the records (others stay `pending`).
+    pub fn set_statuses(&mut self, records: &[RunRecord]) {
+        for entry in &mut self.runs {
+            entry.status = "pending".into();
+        }
+        for rec in records {
+            if let Ok(i) = self.runs.binary_search_by_key(&rec.run, |e| e.run) {
+                self.runs[i].status = rec.status.as_str().into();
+            }
+        }
+    }
+
+    /// Counts of (ok, failed, pending) runs.
+    pub fn counts(&self) -> (u64, u64, u64) {
+        let count = |s: &str| self.runs.iter().filter(|e| e.status == s).count() as u64;
+        (
+            count(Status::Ok.as_str()),
+            count(Status::Failed.as_str()),
+            count("pending"),
+        )
+    }
+
+    /// Reads `dir`'s manifest, if there is one.
+    pub fn load(dir: &Path) -> Result<Option<Manifest>, ManifestError> {
+        let path = dir.join(MANIFEST_FILE);
+        let bytes = match std::fs::read(&path) {
+            Ok(b) => b,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            Err(source) => return Err(ManifestError::Io { path, source }),
+        };
+        let m: Manifest = serde_json::from_slice(&bytes).map_err(|e| ManifestError::Format {
+            path: path.clone(),
+            message: e.to_string(),
+        })?;
+        if m.format != FORMAT {
+            return Err(ManifestError::Format {
+                path,
+                message: format!("format {} (this Vitro reads {FORMAT})", m.format),
+            });
+        }
+        Ok(Some(m))
+    }
+
+    /// Writes the manifest into `dir` (atomically: a reader sees the old or the new one).
+    pub fn save(&self, dir: &Path) -> Result<(), ManifestError> {
+        let path = dir.join(MANIFEST_FILE);
+        let mut bytes = serde_json::to_vec_pretty(self).map_err(|e| ManifestError::Io {
+            path: path.clone(),
+            source: e.into(),
+        })?;
+        bytes.push(b'\n');
+        write_atomic(&path, &bytes).map_err(|source| ManifestError::Io { path, source })
+    }
+}
+
+/// A new session starting now.
+pub fn session(jobs: usize) -> Session {
+    Session {
+        started: now(),
+        finished: None,
+        vitro_version: VERSION.to_owned(),
+        git_hash: GIT_HASH.to_owned(),
+        jobs,
+        runs_done: 0,
+    }
+}
+
+/// Path and SHA-256 of a file's bytes.
+pub fn file_info(path: &Path, bytes: &[u8]) -> FileInfo {
+    FileInfo {
+        path: path.display().to_string(),
+        sha256: sha256_hex(bytes),
+    }
+}
+
+/// SHA-256 of `bytes`, lower-case hex.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// Writes `bytes` to `path` through a temporary file and a rename, synced, so that `path`
+/// holds either its old or its new content, never a mix.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    let mut f = std::fs::File::create(&tmp)?;
+    f.write_all(bytes)?;
+    f.sync_all()?;
+    drop(f);
+    std::fs::rename(&tmp, path)
+}
+
+/// The current time, RFC 3339 UTC to the second.
+pub fn now() -> String {
+    let secs = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    rfc3339(secs)
+}
+
+/// Seconds since the Unix epoch as `YYYY-MM-DDTHH:MM:SSZ`.
+pub fn rfc3339(secs: u64) -> String {
+    let days = (secs / 86_400) as i64;
+    let rem = secs % 86_400;
+    // Civil date from days since 1970-01-01 (H. Hinnant's algorithm).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
+        rem / 3600,
+        rem % 3600 / 60,
+        rem % 60
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dates() {
+        assert_eq!(rfc3339(0), "1970-01-01T00:00:00Z");
+        assert_eq!(rfc3339(951_782_400), "2000-02-29T00:00:00Z");
+        assert_eq!(rfc3339(1_700_000_000), "2023-11-14T22:13:20Z");
+    }
+
+    #[test]
+    fn sha256_of_abc() {
+        assert_eq!(
+            sha256_hex(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+    }
+
+    #[test]
+    fn git_hash_is_a_hash_or_unknown() {
+        assert!(
+            GIT_HASH == "unknown"
+                || (GIT_HASH.len() == 40 && GIT_HASH.chars().all(|c| c.is_ascii_hexdigit())),
+            "{GIT_HASH}"
+        );
+    }
+}

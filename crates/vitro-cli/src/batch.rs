@@ -1,0 +1,257 @@
+//! `vitro batch`, `vitro merge` and `vitro plot`: experiment suites over the demo scenario
+//! (the mission's runner replaces [`demo_runner::DemoRunner`] when it exists).
+//!
+//! ```text
+//! vitro batch EXPERIMENT.toml --out DIR [--jobs N] [--shard I/N] [--resume]
+//! vitro batch --print-schema
+//! vitro merge DIR... --out DIR
+//! vitro plot DIR --out PLOTS [--metric M]... [--hist M]... [--success M]
+//! ```
+
+mod demo_runner;
+
+use crate::Failure;
+use anyhow::anyhow;
+use clap::Args;
+use demo_runner::DemoRunner;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use vitro_batch::design::Shard;
+use vitro_batch::journal::Status;
+use vitro_batch::plot::{PlotOptions, plot_dir};
+use vitro_batch::{BatchOptions, Experiment, ExperimentError, experiment_schema, merge, run_batch};
+
+/// Arguments of `vitro batch`.
+#[derive(Debug, Args)]
+pub(crate) struct BatchArgs {
+    /// The experiment file (TOML; see experiments/ and `--print-schema`).
+    #[arg(required_unless_present = "print_schema")]
+    experiment: Option<PathBuf>,
+    /// Result directory: runs.jsonl, manifest.json, summary and series tables.
+    #[arg(long, value_name = "DIR", required_unless_present = "print_schema")]
+    out: Option<PathBuf>,
+    /// Runs at once (default: the number of CPUs).
+    #[arg(long, short = 'j', value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    jobs: Option<u32>,
+    /// Makes only shard I of N: the runs whose number k has k mod N = I.
+    #[arg(long, value_name = "I/N")]
+    shard: Option<Shard>,
+    /// Completes the runs missing from DIR (after a kill or a crash).
+    #[arg(long)]
+    resume: bool,
+    /// Prints the JSON Schema of experiment files and exits.
+    #[arg(long, exclusive = true)]
+    print_schema: bool,
+}
+
+/// Arguments of `vitro merge`.
+#[derive(Debug, Args)]
+pub(crate) struct MergeArgs {
+    /// Result directories of one experiment (e.g. its shards).
+    #[arg(required = true, num_args = 1..)]
+    dirs: Vec<PathBuf>,
+    /// The merged result directory (new).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+}
+
+/// Arguments of `vitro plot`.
+#[derive(Debug, Args)]
+pub(crate) struct PlotArgs {
+    /// A result directory.
+    dir: PathBuf,
+    /// Where to write the PNG and SVG files.
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// A metric to plot against the parameters (repeatable; default: every numeric one).
+    #[arg(long = "metric", value_name = "M")]
+    metrics: Vec<String>,
+    /// A metric to draw the histogram of (repeatable; default: those plotted).
+    #[arg(long = "hist", value_name = "M")]
+    histograms: Vec<String>,
+    /// Boolean metric saying a run succeeded (default: `success` if kept, else no error).
+    #[arg(long, value_name = "M")]
+    success: Option<String>,
+}
+
+pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
+    if args.print_schema {
+        print!("{}", experiment_schema());
+        return Ok(());
+    }
+    let (Some(path), Some(out)) = (&args.experiment, &args.out) else {
+        return Err(Failure::Input(anyhow!(
+            "an experiment and --out DIR are needed"
+        )));
+    };
+    let runner = DemoRunner;
+    let exp = Experiment::load(path, &runner).map_err(|e| match e {
+        ExperimentError::Invalid(l) => {
+            Failure::Input(anyhow::Error::new(*l).context("invalid experiment"))
+        }
+        e => Failure::Input(e.into()),
+    })?;
+    let jobs = args.jobs.map_or_else(
+        || std::thread::available_parallelism().map_or(1, |n| n.get()),
+        |j| j as usize,
+    );
+    let total = exp.design.runs().unwrap_or(0);
+    let points = exp.design.points().unwrap_or(0);
+    eprintln!(
+        "experiment {:?}: {total} runs ({points} points x {} replicates){}, {jobs} jobs -> {}",
+        exp.name,
+        exp.design.replicates,
+        args.shard
+            .map(|s| format!(", shard {s}"))
+            .unwrap_or_default(),
+        out.display()
+    );
+
+    let bar = progress_bar();
+    let opts = BatchOptions {
+        out: out.clone(),
+        jobs,
+        shard: args.shard,
+        resume: args.resume,
+    };
+    let started = std::sync::OnceLock::new();
+    let report = run_batch(&exp, &runner, &opts, &|p| {
+        let bar = started.get_or_init(|| {
+            bar.set_length(p.total - p.before);
+            if p.before > 0 {
+                bar.set_prefix(format!("({} done before) ", p.before));
+            }
+            &bar
+        });
+        if p.record.status == Status::Failed {
+            bar.println(format!(
+                "run {} failed: {}",
+                p.record.run,
+                p.record.error.as_deref().unwrap_or("")
+            ));
+        }
+        bar.inc(1);
+    })
+    .map_err(|e| {
+        if e.is_input() {
+            Failure::Input(e.into())
+        } else {
+            Failure::Runtime(e.into())
+        }
+    })?;
+    bar.finish_and_clear();
+
+    if report.torn_dropped {
+        eprintln!(
+            "dropped a torn last line of runs.jsonl (a run cut off by the kill); it ran again"
+        );
+    }
+    let rate = if report.wall_s > 0.0 {
+        report.ran as f64 / report.wall_s
+    } else {
+        0.0
+    };
+    eprintln!(
+        "{} runs made in {:.2} s ({:.2} runs/s, {:.0} runs/hour), {} done before; {} of {} runs failed",
+        report.ran,
+        report.wall_s,
+        rate,
+        rate * 3600.0,
+        report.skipped,
+        report.failed.len(),
+        report.planned
+    );
+    for t in &report.tables {
+        eprintln!("wrote {}", t.display());
+    }
+    fail_on_failed_runs(&report.failed, report.planned)
+}
+
+/// Exit 1 naming the failed runs, if any.
+fn fail_on_failed_runs(failed: &[(u64, String)], total: u64) -> Result<(), Failure> {
+    if failed.is_empty() {
+        return Ok(());
+    }
+    for (run, err) in failed.iter().take(20) {
+        eprintln!("  run {run}: {err}");
+    }
+    if failed.len() > 20 {
+        eprintln!(
+            "  ... and {} more (see the summary table)",
+            failed.len() - 20
+        );
+    }
+    let ids: Vec<String> = failed.iter().map(|(r, _)| r.to_string()).collect();
+    Err(Failure::Runtime(anyhow!(
+        "{} of {total} runs failed: {}",
+        failed.len(),
+        ids.join(", ")
+    )))
+}
+
+/// A bar on stderr when it is a terminal, else a hidden one.
+fn progress_bar() -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr());
+    let style = ProgressStyle::with_template(
+        "{prefix}[{elapsed_precise}] {wide_bar} {pos}/{len} runs  {per_sec}  ETA {eta}",
+    )
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
+    bar.set_style(style);
+    bar
+}
+
+pub(crate) fn merge_dirs(args: &MergeArgs) -> Result<(), Failure> {
+    let report = merge(&args.dirs, &args.out).map_err(|e| {
+        if e.is_input() {
+            Failure::Input(e.into())
+        } else {
+            Failure::Runtime(e.into())
+        }
+    })?;
+    for dir in &report.torn {
+        eprintln!(
+            "note: {} ends with a torn run record (left out); resume it to complete",
+            dir.display()
+        );
+    }
+    eprintln!(
+        "merged {} of {} runs from {} directories into {} ({} failed runs)",
+        report.runs,
+        report.total,
+        args.dirs.len(),
+        args.out.display(),
+        report.failed.len()
+    );
+    if report.runs < report.total {
+        eprintln!(
+            "note: {} runs are missing; `vitro batch EXPERIMENT --out {} --resume` makes them",
+            report.total - report.runs,
+            args.out.display()
+        );
+    }
+    for t in &report.tables {
+        eprintln!("wrote {}", t.display());
+    }
+    Ok(())
+}
+
+pub(crate) fn plot(args: &PlotArgs) -> Result<(), Failure> {
+    let opts = PlotOptions {
+        metrics: args.metrics.clone(),
+        histograms: args.histograms.clone(),
+        success: args.success.clone(),
+    };
+    let files = plot_dir(&args.dir, &args.out, &opts).map_err(|e| {
+        if e.is_input() {
+            Failure::Input(e.into())
+        } else {
+            Failure::Runtime(e.into())
+        }
+    })?;
+    eprintln!("wrote {} files to {}", files.len(), args.out.display());
+    Ok(())
+}
