@@ -3,4 +3,5 @@
 
 pub mod cops;
 pub mod graph;
+pub mod patrol;
 pub mod planning;

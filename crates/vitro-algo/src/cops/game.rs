@@ -87,7 +87,7 @@ fn product_ranks(
 }
 
 /// Whose move it is in a position.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 pub enum Turn {
     /// The cops move next (all of them at once, each along an edge or staying).
     Cops,
@@ -96,7 +96,7 @@ pub enum Turn {
 }
 
 /// The value of a position under optimal play.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 pub enum Outcome {
     /// The cops force capture within this many further moves (plies, counting both sides'
     /// moves); 0 means the robber stands on a cop.

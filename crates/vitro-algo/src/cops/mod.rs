@@ -74,7 +74,7 @@ impl Default for CopOptions {
 }
 
 /// How the winning `k` of a component was established.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 pub enum Decision {
     /// A dominating set of `k` vertices exists (so `k` cops win at once).
     DominatingSet,
@@ -83,7 +83,7 @@ pub enum Decision {
 }
 
 /// The cop number of one connected component.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct ComponentCopNumber {
     /// The component's vertices (ids in the whole graph), ascending.
     pub nodes: Vec<NodeId>,
@@ -99,7 +99,7 @@ pub struct ComponentCopNumber {
 }
 
 /// The result of [`cop_number`].
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct CopResult {
     /// The cop number of the whole graph (the sum over components; 0 for the empty graph).
     pub cop_number: usize,

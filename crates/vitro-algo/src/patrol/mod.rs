@@ -1,0 +1,309 @@
+//! Patrolling security games (after Basilico, Gatti & Amigoni, AAMAS 2009): one patroller
+//! randomises its walk on a graph; an attacker who knows the randomisation and watches the
+//! patroller strikes a target at the worst moment.
+//!
+//! # The game
+//!
+//! - The patroller follows a stationary Markov [`Policy`]: on its *support* (the vertices it
+//!   patrols, closed under its moves) each vertex has a distribution over staying or stepping
+//!   to a neighbour. The patroller picks the support too.
+//! - The attacker sees the patroller's vertex `h` (any support vertex; he can wait for it),
+//!   picks a target `t` and starts the attack at once. The attack takes `deadline_t` steps and
+//!   is caught if the patroller stands on `t` at one of the steps `1..=deadline_t`; otherwise
+//!   the attacker gains `value_t`.
+//! - The value of a policy is the attacker's best expected gain,
+//!   `max over (t, h) of value_t · (1 − P(t, h))`; the patroller minimises it. With equal values
+//!   this is maximising the worst-case capture probability. (With Markov policies the history
+//!   tells the attacker nothing more than the current vertex.)
+//!
+//! # What is exact
+//!
+//! `P(t, h)` is a polynomial of degree `deadline_t` in the transition probabilities, so the
+//! patroller's problem is a non-convex polynomial program; no single LP states it, and its
+//! optimum can be irrational. [`solve`] therefore works in two stages:
+//!
+//! 1. **Local (mathematical programming).** On each candidate support, successive linear
+//!    programming (good_lp + microlp): linearise every `P(t, h)` at the current policy, solve
+//!    the LP `min z s.t. z ≥ value_t · (1 − linearised P(t, h))`, rows stochastic, within a
+//!    trust region; repeat. This finds a good policy fast but only a *local* optimum.
+//! 2. **Exact (certified).** Branch and bound over boxes of transition probabilities on every
+//!    connected support, with lower bounds from the monotonicity of `P` in each entry
+//!    (module `exact`). When it finishes, the returned policy is within
+//!    [`SolveOptions::tolerance`] of the best value over **all** stationary Markov policies on
+//!    **all** supports: [`Solution::exact`] is then true and `value − lower_bound ≤ tolerance`.
+//!    It is practical for small graphs (a handful of vertices, a few dozen transition
+//!    entries); on larger ones the node budget runs out, `exact` is false, and the solution is
+//!    the best policy found with a certified (but looser) `lower_bound`.
+//!
+//! Not modelled (yet): several patrollers and moving targets (convoys on schedules). The
+//! types carry them ([`TargetPosition::Schedule`], [`Instance::patrollers`]); [`solve`]
+//! answers [`PatrolError::Unsupported`] for them. Policies with memory (history-dependent
+//! patrols) can beat Markov policies; they are outside the optimised class.
+//!
+//! ```
+//! use vitro_algo::patrol::{self, Instance};
+//!
+//! let instance = Instance::from_toml_str(r#"
+//!     [graph]
+//!     edges = [[0, 1], [1, 2]]
+//!     [[target]]
+//!     node = 0
+//!     value = 1
+//!     deadline = 2
+//!     [[target]]
+//!     node = 2
+//!     value = 1
+//!     deadline = 2
+//!     [[patroller]]
+//! "#)?;
+//! let solution = patrol::solve(&instance)?;
+//! assert!(solution.exact);
+//! // Bouncing 0 -> 1 -> (0 or 2 at random) -> 1 -> ... catches every attack half the time.
+//! assert!((solution.value - 0.5).abs() < 1e-6);
+//! # Ok::<(), patrol::PatrolError>(())
+//! ```
+
+mod chain;
+mod exact;
+mod instance;
+mod local;
+mod montecarlo;
+mod policy;
+mod relax;
+mod supports;
+
+use std::path::PathBuf;
+
+use serde::Serialize;
+
+pub use instance::{Instance, Patroller, Target, TargetPosition};
+pub use local::LpStats;
+pub use montecarlo::{AttackEstimate, MonteCarloOptions, MonteCarloReport, monte_carlo};
+pub use policy::{Attack, Policy};
+
+use chain::Chain;
+
+/// Errors from loading, solving or evaluating a patrolling game.
+#[derive(Debug, thiserror::Error)]
+pub enum PatrolError {
+    /// The instance text is malformed at this 1-based line and column.
+    #[error("line {line}, column {column}: {message}")]
+    Parse {
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A file could not be read.
+    #[error("cannot read {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The instance is inconsistent (built in code rather than parsed).
+    #[error("invalid instance: {0}")]
+    InvalidInstance(String),
+    /// A policy does not fit the instance.
+    #[error("invalid policy: {0}")]
+    InvalidPolicy(String),
+    /// The instance uses a feature the solver does not handle yet.
+    #[error("unsupported: {0}")]
+    Unsupported(String),
+    /// The LP solver failed.
+    #[error("LP solver: {0}")]
+    Lp(String),
+}
+
+/// Settings for [`solve_with`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolveOptions {
+    /// Absolute optimality tolerance on the value (in units of target value). Default 1e-5.
+    pub tolerance: f64,
+    /// Branch-and-bound box budget (each box costs up to one small LP, well under a
+    /// millisecond). Default 200 000.
+    pub max_nodes: u64,
+    /// The most connected supports to consider; beyond it only whole components are tried and
+    /// the result is not certified. Default 4096.
+    pub max_supports: usize,
+    /// Supports optimised locally (by successive LP) before the branch and bound. Default 16.
+    pub local_searches: usize,
+    /// LP iterations per local search. Default 100.
+    pub local_iterations: usize,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions {
+            tolerance: 1e-5,
+            max_nodes: 200_000,
+            max_supports: 4096,
+            local_searches: 16,
+            local_iterations: 100,
+        }
+    }
+}
+
+/// Work done by [`solve_with`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct SolveStats {
+    /// Connected supports enumerated.
+    pub supports: usize,
+    /// Supports the branch and bound had to search (the rest were ruled out at once).
+    pub supports_searched: usize,
+    /// Local searches run.
+    pub local_searches: usize,
+    /// LP work of the local searches.
+    pub lp: LpStats,
+    /// LP work of the branch and bound (one relaxation per box the interval bound cannot
+    /// prune).
+    pub bnb_lp: LpStats,
+    /// Branch-and-bound boxes evaluated.
+    pub nodes: u64,
+}
+
+/// An optimal (or best found) patrolling policy.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Solution {
+    /// The policy's value: the attacker's best expected gain against it (lower is better).
+    pub value: f64,
+    /// A certified lower bound on the value of every stationary Markov policy.
+    pub lower_bound: f64,
+    /// Whether `value − lower_bound ≤ tolerance` over all supports (the policy is optimal up
+    /// to the tolerance).
+    pub exact: bool,
+    /// The smallest capture probability over all attack options.
+    pub capture_probability: f64,
+    /// The policy (restricted to one recurrent class).
+    pub policy: Policy,
+    /// Every attack option's outcome against the policy.
+    pub attacks: Vec<Attack>,
+    /// Work done.
+    pub stats: SolveStats,
+}
+
+/// Solves a patrolling game with [`SolveOptions::default`].
+///
+/// # Errors
+/// See [`solve_with`].
+pub fn solve(instance: &Instance) -> Result<Solution, PatrolError> {
+    solve_with(instance, &SolveOptions::default())
+}
+
+/// Solves a patrolling game: the best stationary Markov policy for its single patroller,
+/// certified optimal when [`Solution::exact`] (see the [module docs](self)).
+///
+/// # Errors
+/// [`PatrolError::Unsupported`] for several patrollers or moving targets,
+/// [`PatrolError::Lp`] if the LP solver fails.
+pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solution, PatrolError> {
+    if instance.patrollers.len() != 1 {
+        return Err(PatrolError::Unsupported(format!(
+            "{} patrollers; only a single patroller is solved",
+            instance.patrollers.len()
+        )));
+    }
+    let targets = instance.static_targets()?;
+    let graph = &instance.graph;
+    let (supports, complete) = match supports::connected(graph, options.max_supports) {
+        Some(all) => (all, true),
+        None => (graph.components(), false),
+    };
+    let chains: Vec<Chain> = supports
+        .iter()
+        .map(|s| Chain::new(graph, s, &targets))
+        .collect();
+    let quick: Vec<f64> = chains.iter().map(supports::unreachable_loss).collect();
+    let mut order: Vec<usize> = (0..chains.len()).collect();
+    order.sort_by(|&a, &b| {
+        quick[a]
+            .total_cmp(&quick[b])
+            .then(chains[b].len().cmp(&chains[a].len()))
+            .then(a.cmp(&b))
+    });
+    let mut stats = SolveStats {
+        supports: chains.len(),
+        ..SolveStats::default()
+    };
+    // Stage 1: local optimisation on the most promising supports.
+    let mut best: Option<(usize, Vec<f64>, f64)> = None;
+    for &s in order.iter().take(options.local_searches.max(1)) {
+        if best.as_ref().is_some_and(|b| quick[s] >= b.2) {
+            break;
+        }
+        let start = local::uniform(&chains[s]);
+        let (alpha, loss) =
+            local::improve(&chains[s], start, options.local_iterations, &mut stats.lp);
+        stats.local_searches += 1;
+        if best.as_ref().is_none_or(|b| loss < b.2) {
+            best = Some((s, alpha, loss));
+        }
+    }
+    let Some(incumbent) = best else {
+        return Err(PatrolError::InvalidInstance(
+            "the graph has no vertices".into(),
+        ));
+    };
+    // Stage 2: certify (or improve) by branch and bound on every support that could beat it.
+    let cutoff = incumbent.2 - options.tolerance;
+    let searched: Vec<usize> = (0..chains.len()).filter(|&s| quick[s] < cutoff).collect();
+    let ruled_out = (0..chains.len())
+        .filter(|&s| quick[s] >= cutoff)
+        .map(|s| quick[s])
+        .fold(f64::INFINITY, f64::min);
+    stats.supports_searched = searched.len();
+    let subset: Vec<Chain> = searched.iter().map(|&s| chains[s].clone()).collect();
+    let start = match searched.iter().position(|&s| s == incumbent.0) {
+        Some(i) => (i, incumbent.1.clone(), incumbent.2),
+        // The incumbent's support was ruled out only if nothing can beat it: keep it.
+        None => (usize::MAX, incumbent.1.clone(), incumbent.2),
+    };
+    let outcome = exact::branch_and_bound(
+        &subset,
+        start,
+        options.tolerance,
+        options.max_nodes,
+        &mut stats.bnb_lp,
+    );
+    stats.nodes = outcome.nodes;
+    let (chain, alpha) = if outcome.support == usize::MAX {
+        (&chains[incumbent.0], &incumbent.1)
+    } else {
+        (&subset[outcome.support], &outcome.alpha)
+    };
+    let policy = best_class(instance, Policy::from_chain(chain, alpha))?;
+    let attacks = policy.attacks(instance)?;
+    let value = attacks.iter().map(|a| a.expected_loss).fold(0.0, f64::max);
+    let capture_probability = attacks
+        .iter()
+        .map(|a| a.capture_probability)
+        .fold(1.0, f64::min);
+    let lower_bound = outcome.lower_bound.min(ruled_out).min(value);
+    Ok(Solution {
+        value,
+        lower_bound,
+        exact: complete && value - lower_bound <= options.tolerance,
+        capture_probability,
+        policy,
+        attacks,
+        stats,
+    })
+}
+
+/// The policy restricted to its best recurrent class: where the patroller ends up circling.
+/// Fewer vertices to attack from can only lower the value, and transient vertices are never
+/// visited again, so the restriction is at least as good and describes what really happens.
+fn best_class(instance: &Instance, policy: Policy) -> Result<Policy, PatrolError> {
+    let mut best: Option<(f64, Policy)> = None;
+    for class in policy.recurrent_classes() {
+        let restricted = policy.restricted(&class);
+        let value = restricted.value(instance)?;
+        if best.as_ref().is_none_or(|b| value < b.0) {
+            best = Some((value, restricted));
+        }
+    }
+    Ok(best.map_or(policy, |b| b.1))
+}

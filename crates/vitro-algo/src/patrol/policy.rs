@@ -1,0 +1,294 @@
+//! Stationary Markov patrolling policies and their exact evaluation.
+
+use serde::Serialize;
+
+use super::chain::Chain;
+use super::{Instance, PatrolError};
+use crate::graph::{Graph, NodeId};
+
+/// Tolerance on a row of probabilities summing to 1.
+const ROW_SUM_TOLERANCE: f64 = 1e-9;
+
+/// A stationary Markov policy for one patroller: on its *support* (the vertices it patrols),
+/// each vertex has a distribution over where to be next (itself or a neighbour, inside the
+/// support).
+///
+/// The attacker may strike whenever the patroller stands on a support vertex, so every support
+/// vertex counts as an observable start of an attack.
+///
+/// ```
+/// use vitro_algo::graph;
+/// use vitro_algo::patrol::Policy;
+///
+/// let g = graph::path(3)?;
+/// let walk = Policy::new(&g, vec![
+///     (0, vec![(1, 1.0)]),
+///     (1, vec![(0, 0.5), (2, 0.5)]),
+///     (2, vec![(1, 1.0)]),
+/// ])?;
+/// assert_eq!(walk.support(), &[0, 1, 2]);
+/// assert_eq!(walk.probability(1, 2), 0.5);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Policy {
+    support: Vec<NodeId>,
+    /// Per support vertex (same order): `(next vertex, probability)`, ascending by vertex,
+    /// positive probabilities only.
+    moves: Vec<Vec<(NodeId, f64)>>,
+}
+
+/// One attack option and how the policy fares against it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Attack {
+    /// Index of the target in [`Instance::targets`].
+    pub target: usize,
+    /// The patroller's vertex when the attack starts.
+    pub from: NodeId,
+    /// Probability that the patroller stands on the target during the attack.
+    pub capture_probability: f64,
+    /// The attacker's expected gain: the target's value times the escape probability.
+    pub expected_loss: f64,
+}
+
+impl Policy {
+    /// Builds a policy from `(vertex, moves)` rows; every move goes to the vertex itself or a
+    /// neighbour, probabilities are non-negative and sum to 1 (rows are renormalised to remove
+    /// rounding), and every move stays inside the support (the listed vertices).
+    ///
+    /// # Errors
+    /// [`PatrolError::InvalidPolicy`] naming the offending row.
+    pub fn new(
+        graph: &Graph,
+        rows: Vec<(NodeId, Vec<(NodeId, f64)>)>,
+    ) -> Result<Policy, PatrolError> {
+        let mut rows = rows;
+        rows.sort_by_key(|(v, _)| *v);
+        let support: Vec<NodeId> = rows.iter().map(|(v, _)| *v).collect();
+        let bad = |message: String| Err(PatrolError::InvalidPolicy(message));
+        if support.is_empty() {
+            return bad("the support is empty".into());
+        }
+        if let Some(w) = support.windows(2).find(|w| w[0] == w[1]) {
+            return bad(format!("vertex {} has two rows", w[0]));
+        }
+        let mut moves = Vec::with_capacity(rows.len());
+        for (v, mut row) in rows {
+            if v >= graph.node_count() {
+                return bad(format!("vertex {v} is not in the graph"));
+            }
+            row.sort_by_key(|(w, _)| *w);
+            let mut sum = 0.0;
+            for (i, &(w, p)) in row.iter().enumerate() {
+                if !(p.is_finite() && p >= 0.0) {
+                    return bad(format!("move {v} -> {w} has probability {p}"));
+                }
+                if w != v && !graph.has_edge(v, w) {
+                    return bad(format!("move {v} -> {w} does not follow an edge"));
+                }
+                if support.binary_search(&w).is_err() && p > 0.0 {
+                    return bad(format!("move {v} -> {w} leaves the support"));
+                }
+                if i > 0 && row[i - 1].0 == w {
+                    return bad(format!("move {v} -> {w} is listed twice"));
+                }
+                sum += p;
+            }
+            if (sum - 1.0).abs() > ROW_SUM_TOLERANCE {
+                return bad(format!("the moves from {v} sum to {sum}, not 1"));
+            }
+            moves.push(
+                row.into_iter()
+                    .filter(|&(_, p)| p > 0.0)
+                    .map(|(w, p)| (w, p / sum))
+                    .collect(),
+            );
+        }
+        Ok(Policy { support, moves })
+    }
+
+    /// The policy that stands still on `v` forever.
+    pub fn stay(v: NodeId) -> Policy {
+        Policy {
+            support: vec![v],
+            moves: vec![vec![(v, 1.0)]],
+        }
+    }
+
+    /// Builds the policy from a chain's entry vector (rows already stochastic up to rounding).
+    pub(crate) fn from_chain(chain: &Chain, alpha: &[f64]) -> Policy {
+        let moves = (0..chain.len())
+            .map(|i| {
+                let row = chain.row(i);
+                let sum: f64 = row.clone().map(|e| alpha[e].max(0.0)).sum();
+                row.filter(|&e| alpha[e] > 0.0)
+                    .map(|e| (chain.nodes[chain.to[e]], alpha[e] / sum))
+                    .collect()
+            })
+            .collect();
+        Policy {
+            support: chain.nodes.clone(),
+            moves,
+        }
+    }
+
+    /// The entry vector of this policy on `chain` (whose support must be this policy's).
+    pub(crate) fn to_chain_entries(&self, chain: &Chain) -> Vec<f64> {
+        let mut alpha = vec![0.0; chain.entries()];
+        for (i, row) in self.moves.iter().enumerate() {
+            for &(w, p) in row {
+                if let Some(e) = chain.row(i).find(|&e| chain.nodes[chain.to[e]] == w) {
+                    alpha[e] = p;
+                }
+            }
+        }
+        alpha
+    }
+
+    /// The vertices the patroller visits, ascending.
+    pub fn support(&self) -> &[NodeId] {
+        &self.support
+    }
+
+    /// The moves from `v` as `(next vertex, probability)`, or `None` outside the support.
+    pub fn moves(&self, v: NodeId) -> Option<&[(NodeId, f64)]> {
+        let i = self.support.binary_search(&v).ok()?;
+        Some(&self.moves[i])
+    }
+
+    /// The probability of moving from `from` to `to` (0 outside the support).
+    pub fn probability(&self, from: NodeId, to: NodeId) -> f64 {
+        self.moves(from)
+            .and_then(|row| row.iter().find(|(w, _)| *w == to))
+            .map_or(0.0, |&(_, p)| p)
+    }
+
+    /// The next vertex from `from` for a uniform draw `u` in `[0, 1)` (inverse transform
+    /// sampling); `None` outside the support.
+    pub fn next(&self, from: NodeId, u: f64) -> Option<NodeId> {
+        let row = self.moves(from)?;
+        let mut acc = 0.0;
+        for &(w, p) in row {
+            acc += p;
+            if u < acc {
+                return Some(w);
+            }
+        }
+        row.last().map(|&(w, _)| w)
+    }
+
+    /// The chain of this policy's support for `instance`'s (static) targets.
+    pub(crate) fn chain(&self, instance: &Instance) -> Result<Chain, PatrolError> {
+        Ok(Chain::new(
+            &instance.graph,
+            &self.support,
+            &instance.static_targets()?,
+        ))
+    }
+
+    /// The exact outcome of every attack option: each target, started while the patroller
+    /// stands on each support vertex.
+    ///
+    /// # Errors
+    /// [`PatrolError::Unsupported`] for moving targets, [`PatrolError::InvalidPolicy`] if the
+    /// policy does not fit the instance's graph.
+    pub fn attacks(&self, instance: &Instance) -> Result<Vec<Attack>, PatrolError> {
+        self.check_graph(&instance.graph)?;
+        let chain = self.chain(instance)?;
+        let alpha = self.to_chain_entries(&chain);
+        let mut capture = Vec::new();
+        chain.capture(&alpha, &mut capture);
+        let n = chain.len();
+        let mut attacks = Vec::with_capacity(capture.len());
+        for (t, target) in chain.targets.iter().enumerate() {
+            for (h, &p) in capture[t * n..t * n + n].iter().enumerate() {
+                let p = p.min(1.0);
+                attacks.push(Attack {
+                    target: t,
+                    from: chain.nodes[h],
+                    capture_probability: p,
+                    expected_loss: target.value * (1.0 - p),
+                });
+            }
+        }
+        Ok(attacks)
+    }
+
+    /// The attacker's best expected gain against this policy (the policy's value; lower is
+    /// better for the patroller).
+    ///
+    /// # Errors
+    /// As for [`Policy::attacks`].
+    pub fn value(&self, instance: &Instance) -> Result<f64, PatrolError> {
+        Ok(self
+            .attacks(instance)?
+            .iter()
+            .map(|a| a.expected_loss)
+            .fold(0.0, f64::max))
+    }
+
+    fn check_graph(&self, graph: &Graph) -> Result<(), PatrolError> {
+        for (&v, row) in self.support.iter().zip(&self.moves) {
+            for &(w, _) in row {
+                if v >= graph.node_count() || (w != v && !graph.has_edge(v, w)) {
+                    return Err(PatrolError::InvalidPolicy(format!(
+                        "move {v} -> {w} does not follow an edge of the instance's graph"
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The closed communicating classes of the policy (the sets the patroller can end up
+    /// circling in forever), each ascending, ordered by smallest vertex.
+    pub fn recurrent_classes(&self) -> Vec<Vec<NodeId>> {
+        let n = self.support.len();
+        let index = |w: NodeId| self.support.binary_search(&w).ok();
+        let reach: Vec<Vec<bool>> = (0..n)
+            .map(|start| {
+                let mut seen = vec![false; n];
+                seen[start] = true;
+                let mut stack = vec![start];
+                while let Some(i) = stack.pop() {
+                    for &(w, _) in &self.moves[i] {
+                        if let Some(j) = index(w).filter(|&j| !seen[j]) {
+                            seen[j] = true;
+                            stack.push(j);
+                        }
+                    }
+                }
+                seen
+            })
+            .collect();
+        let mut classes = Vec::new();
+        let mut taken = vec![false; n];
+        for i in 0..n {
+            if taken[i] {
+                continue;
+            }
+            // i is recurrent iff everything it reaches reaches it back.
+            let recurrent = (0..n).all(|j| !reach[i][j] || reach[j][i]);
+            if recurrent {
+                let class: Vec<usize> = (0..n).filter(|&j| reach[i][j]).collect();
+                for &j in &class {
+                    taken[j] = true;
+                }
+                classes.push(class.into_iter().map(|j| self.support[j]).collect());
+            }
+        }
+        classes
+    }
+
+    /// This policy restricted to a closed set of its support vertices.
+    pub(crate) fn restricted(&self, class: &[NodeId]) -> Policy {
+        let moves = class
+            .iter()
+            .filter_map(|&v| self.moves(v).map(<[_]>::to_vec))
+            .collect();
+        Policy {
+            support: class.to_vec(),
+            moves,
+        }
+    }
+}
