@@ -243,13 +243,13 @@ impl Experiment {
         if file.replicates == 0 {
             return Err(err(&["replicates"], "expected at least 1 replicate".into()));
         }
-        if let Some(end) = file.end_s {
-            if !(end > 0.0 && end.is_finite()) {
-                return Err(err(
-                    &["end_s"],
-                    format!("invalid end time {end}, expected a positive number of seconds"),
-                ));
-            }
+        if let Some(end) = file.end_s
+            && !(end > 0.0 && end.is_finite())
+        {
+            return Err(err(
+                &["end_s"],
+                format!("invalid end time {end}, expected a positive number of seconds"),
+            ));
         }
 
         // Factors, in the order they are written.
