@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use vitro_algo::graph::{self, Graph, NodeId};
 use vitro_algo::patrol::{
-    self, Instance, MonteCarloOptions, PatrolError, Patroller, Policy, Target, TargetPosition,
-    monte_carlo,
+    self, Instance, MonteCarloOptions, PatrolError, Patroller, Policy, SolveOptions, Target,
+    TargetPosition, monte_carlo,
 };
 
 const GRAPHS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/graphs");
@@ -437,4 +437,67 @@ fn policies_are_validated() {
     let stay = Policy::stay(1);
     assert_eq!(stay.next(1, 0.7), Some(1));
     assert_eq!(stay.recurrent_classes(), vec![vec![1]]);
+}
+
+#[test]
+fn a_budget_cut_search_reports_an_honest_bound() {
+    // Four corners of a 3x3 grid: 218 connected supports, too many boxes for a budget of 50.
+    let inst = instance(
+        graph::grid(3, 3).unwrap(),
+        &[(0, 1.0, 4), (2, 1.0, 4), (6, 1.0, 4), (8, 1.0, 4)],
+    );
+    let options = SolveOptions {
+        max_nodes: 50,
+        local_searches: 2,
+        local_iterations: 30,
+        ..SolveOptions::default()
+    };
+    let solution = patrol::solve_with(&inst, &options).unwrap();
+    assert!(!solution.exact);
+    assert!(solution.lower_bound < solution.value - options.tolerance);
+    // The value is still the returned policy's true value, and beats the uniform random walk.
+    assert_eq!(solution.value, solution.policy.value(&inst).unwrap());
+    let walk = Policy::new(
+        &inst.graph,
+        (0..9)
+            .map(|v| {
+                let succ: Vec<NodeId> =
+                    inst.graph.neighbors(v).iter().copied().chain([v]).collect();
+                let p = 1.0 / succ.len() as f64;
+                (v, succ.into_iter().map(|w| (w, p)).collect())
+            })
+            .collect(),
+    )
+    .unwrap();
+    assert!(solution.value < walk.value(&inst).unwrap());
+}
+
+#[test]
+fn inconsistent_instances_are_rejected() {
+    let g = graph::path(3).unwrap();
+    let target = |node, value, deadline| Target {
+        name: "t".into(),
+        position: TargetPosition::Static(node),
+        value,
+        deadline,
+    };
+    let one = || vec![Patroller { name: "p".into() }];
+    for (targets, patrollers) in [
+        (vec![target(5, 1.0, 2)], one()),
+        (vec![target(0, 0.0, 2)], one()),
+        (vec![target(0, f64::NAN, 2)], one()),
+        (vec![target(0, 1.0, 0)], one()),
+        (vec![], one()),
+        (vec![target(0, 1.0, 2)], vec![]),
+    ] {
+        assert!(matches!(
+            Instance::new(g.clone(), targets, patrollers),
+            Err(PatrolError::InvalidInstance(_))
+        ));
+    }
+    let jumpy = Target {
+        position: TargetPosition::Schedule(vec![0, 2]),
+        ..target(0, 1.0, 2)
+    };
+    assert!(Instance::new(g, vec![jumpy], one()).is_err());
 }

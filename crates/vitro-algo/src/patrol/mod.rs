@@ -27,13 +27,20 @@
 //!    the LP `min z s.t. z ≥ value_t · (1 − linearised P(t, h))`, rows stochastic, within a
 //!    trust region; repeat. This finds a good policy fast but only a *local* optimum.
 //! 2. **Exact (certified).** Branch and bound over boxes of transition probabilities on every
-//!    connected support, with lower bounds from the monotonicity of `P` in each entry
-//!    (module `exact`). When it finishes, the returned policy is within
-//!    [`SolveOptions::tolerance`] of the best value over **all** stationary Markov policies on
-//!    **all** supports: [`Solution::exact`] is then true and `value − lower_bound ≤ tolerance`.
-//!    It is practical for small graphs (a handful of vertices, a few dozen transition
-//!    entries); on larger ones the node budget runs out, `exact` is false, and the solution is
-//!    the best policy found with a certified (but looser) `lower_bound`.
+//!    connected support (module `exact`). Lower bounds come from the monotonicity of `P` in
+//!    each entry: an interval recursion, and an LP relaxation (good_lp + microlp again) whose
+//!    error shrinks with the square of the box width. When the search finishes, the returned
+//!    policy is within [`SolveOptions::tolerance`] of the best value over **all** stationary
+//!    Markov policies on **all** supports: [`Solution::exact`] is then true and
+//!    `value − lower_bound ≤ tolerance`. This is practical for small graphs (up to about five
+//!    vertices and a few dozen transition entries, certified in milliseconds to seconds);
+//!    on larger ones the box budget ([`SolveOptions::max_nodes`]) runs out, `exact` is false,
+//!    and the solution is the best policy found with a certified but looser `lower_bound`.
+//!
+//! The value [`solve`] reports is always the exact value of the returned policy (computed by
+//! the recursion above, checked by [`monte_carlo`]); only its optimality is conditional on
+//! `exact`. Optima are in general irrational: on a path of four vertices with targets of
+//! value 1 and 2 at the ends (deadline 3) the certified optimum is 0.928203… (≈ 4√3 − 6).
 //!
 //! Not modelled (yet): several patrollers and moving targets (convoys on schedules). The
 //! types carry them ([`TargetPosition::Schedule`], [`Instance::patrollers`]); [`solve`]
@@ -123,8 +130,10 @@ pub enum PatrolError {
 pub struct SolveOptions {
     /// Absolute optimality tolerance on the value (in units of target value). Default 1e-5.
     pub tolerance: f64,
-    /// Branch-and-bound box budget (each box costs up to one small LP, well under a
-    /// millisecond). Default 200 000.
+    /// Branch-and-bound box budget. A box costs at most one small LP (tenths of a
+    /// millisecond), so the default 20 000 bounds the search to seconds; the tested instances
+    /// (up to 5 vertices) certify within a few thousand boxes, symmetric ones (every vertex of
+    /// a 4-cycle a target) need several hundred thousand.
     pub max_nodes: u64,
     /// The most connected supports to consider; beyond it only whole components are tried and
     /// the result is not certified. Default 4096.
@@ -139,7 +148,7 @@ impl Default for SolveOptions {
     fn default() -> Self {
         SolveOptions {
             tolerance: 1e-5,
-            max_nodes: 200_000,
+            max_nodes: 20_000,
             max_supports: 4096,
             local_searches: 16,
             local_iterations: 100,
