@@ -5,3 +5,4 @@ pub mod cops;
 pub mod graph;
 pub mod patrol;
 pub mod planning;
+pub mod repair;

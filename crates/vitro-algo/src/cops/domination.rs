@@ -20,7 +20,7 @@ pub(crate) fn dominating_set(graph: &Graph, k: usize, budget: u64) -> Option<Vec
         }
     }
     let mut full = vec![u64::MAX; words];
-    if n % 64 != 0 {
+    if !n.is_multiple_of(64) {
         full[words - 1] = (1u64 << (n % 64)) - 1;
     }
     if n == 0 {

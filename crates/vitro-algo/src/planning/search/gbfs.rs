@@ -14,6 +14,16 @@ use crate::planning::task::Task;
 /// evaluated and queued once (no reopening). Returns a plan (not necessarily optimal) or
 /// `None` once every reachable non-dead-end state has been expanded.
 pub fn greedy_best_first(task: &Task, heuristic: &mut dyn Heuristic) -> SearchOutcome {
+    greedy_best_first_bounded(task, heuristic, None)
+}
+
+/// [`greedy_best_first`] that gives up after `max_expanded` expansions (if given): the plan
+/// is then `None` and [`SearchStats::truncated`] is set.
+pub fn greedy_best_first_bounded(
+    task: &Task,
+    heuristic: &mut dyn Heuristic,
+    max_expanded: Option<u64>,
+) -> SearchOutcome {
     let succ = SuccessorGenerator::new(task);
     let mut registry = StateRegistry::new(task.words());
     let mut stats = SearchStats::default();
@@ -45,6 +55,10 @@ pub fn greedy_best_first(task: &Task, heuristic: &mut dyn Heuristic) -> SearchOu
                 plan: Some(plan),
                 stats,
             };
+        }
+        if max_expanded.is_some_and(|max| stats.expanded >= max) {
+            stats.truncated = true;
+            return SearchOutcome { plan: None, stats };
         }
         stats.expanded += 1;
         succ.applicable(task, &state, &mut applicable);

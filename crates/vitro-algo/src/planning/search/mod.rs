@@ -8,7 +8,7 @@ mod gbfs;
 mod registry;
 
 pub use astar::astar;
-pub use gbfs::greedy_best_first;
+pub use gbfs::{greedy_best_first, greedy_best_first_bounded};
 
 use super::heuristic::Rows;
 use super::task::{ActionId, FactId, Task, for_each_fact};
@@ -26,6 +26,9 @@ pub struct SearchStats {
     pub reopened: u64,
     /// Heuristic value of the initial state (`None`: a dead end).
     pub initial_h: Option<u32>,
+    /// The search stopped at its expansion bound, before finding a plan or exhausting the
+    /// reachable states ([`greedy_best_first_bounded`]).
+    pub truncated: bool,
 }
 
 /// What a search found.
