@@ -6,3 +6,4 @@ pub mod graph;
 pub mod patrol;
 pub mod planning;
 pub mod repair;
+pub mod rules;
