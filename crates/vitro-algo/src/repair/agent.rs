@@ -129,8 +129,11 @@ impl Worker {
     fn begin_step(&mut self, cx: &mut Cx<'_>, index: usize) {
         let action = self.plan.steps[index].action;
         let before = self.observe(cx);
-        // Every precondition of an own action is in the view: this check is exact.
-        if !self.team.task.applicable(action, &before) || cx.act(&Execute, action).is_err() {
+        // Every precondition of an own action is in the view, so this check is exact and
+        // the actuator accepts the action when it passes (it checks again against the world).
+        let started =
+            self.team.task.applicable(action, &before) && cx.act(&Execute, action).is_ok();
+        if !started {
             self.tally.detected += 1;
             if self.plan.deferred {
                 self.tally.skipped += 1;
