@@ -110,7 +110,7 @@ impl postcard::ser_flavors::Flavor for HashFlavor<'_> {
     }
 
     fn finalize(self) -> postcard::Result<()> {
-        if self.len % 8 != 0 {
+        if !self.len.is_multiple_of(8) {
             self.h.write_u64(self.word);
         }
         self.h.write_u64(self.len);

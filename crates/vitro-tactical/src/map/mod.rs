@@ -155,10 +155,10 @@ impl TownMap {
                         height: features::building_height(tags, &config.heights),
                     });
                 }
-            } else if features::is_water(tags) {
-                if let Some(area) = features::way_polygon(&raw, w, &projection) {
-                    water.push(WaterArea { osm_id: w.id, area });
-                }
+            } else if features::is_water(tags)
+                && let Some(area) = features::way_polygon(&raw, w, &projection)
+            {
+                water.push(WaterArea { osm_id: w.id, area });
             }
             if tags.is_set("bridge") && (tags.has("highway") || tags.has("railway")) {
                 let line: Vec<P2> = w
