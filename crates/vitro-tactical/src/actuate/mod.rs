@@ -1,0 +1,176 @@
+//! Actuators of ground vehicles and troopers, layered as the design has it:
+//!
+//! - vehicles: [`ground`] `GoToNode` → `MoveInDirection` → `SteerAndAccelerate`
+//!   (the last at the physical level only);
+//! - troopers: [`troop`] `WalkToNode` → `MoveAndTurn`.
+//!
+//! The top actuators take a goal node and answer with [`Ev::Arrived`] when the body is there,
+//! at every level, so a controller written against them (e.g.
+//! [`VisitNodes`](crate::mission::VisitNodes)) runs unchanged whichever storage is underneath.
+//! A goal is taken only at rest (between trips): a body under way refuses with
+//! [`MoveError::UnderWay`].
+//!
+//! At the discrete level a trip is a chain of [`Ev::Hop`] events, one per node, at the times
+//! the route's speed profile gives; at the continuous levels the top actuator drives the
+//! lower ones at every fixed step ([`tick_kinematic`], [`tick_physics`]).
+
+pub mod ground;
+pub mod troop;
+
+use crate::arena::{Arena, Clock, Ev};
+use crate::entity::discrete::{NodeKind, Trip};
+use crate::entity::route::{RouteError, Track};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+use vitro::entity::EntityId;
+use vitro::env::{Effects, NodeId};
+use vitro::event::Target;
+use vitro::time::SimDuration;
+
+/// Why an actuator refused a command.
+#[derive(Clone, Debug, PartialEq, thiserror::Error, Serialize, Deserialize)]
+pub enum MoveError {
+    /// The entity has no body this actuator can move.
+    #[error("entity {0:?} has no body this actuator moves")]
+    NoBody(EntityId),
+    /// The body is on a trip; it takes a new goal once it has arrived.
+    #[error("entity {0:?} is under way")]
+    UnderWay(EntityId),
+    /// No route.
+    #[error(transparent)]
+    Route(#[from] RouteError),
+}
+
+/// Tells `who` it reached `goal`, now.
+pub(crate) fn arrived(who: EntityId, goal: NodeId, fx: &mut Effects<'_, Ev>) {
+    fx.schedule_in(SimDuration::ZERO, Target::Entity(who), Ev::Arrived(goal));
+}
+
+/// The track from `from` to `goal` for a body of `kind`.
+pub(crate) fn plan(
+    w: &Arena,
+    kind: NodeKind,
+    from: NodeId,
+    goal: NodeId,
+) -> Result<Track, MoveError> {
+    let roads = w.roads.of(kind.mode());
+    let path = roads.path(from, goal)?;
+    Ok(match kind {
+        NodeKind::Ground(k) => Track::plan_vehicle(
+            &w.site,
+            roads,
+            &path,
+            w.types.ground(k),
+            &w.types.speed_limits,
+        )?,
+        NodeKind::Troop(k) => Track::plan_walk(
+            &w.site,
+            roads,
+            &path,
+            &w.types.troops,
+            w.types.troops.of(k).load,
+        )?,
+    })
+}
+
+/// The discrete level's GoToNode / WalkToNode: plans the trip and schedules the first hop.
+/// `accepts` says which bodies this actuator moves.
+pub(crate) fn start_trip(
+    w: &mut Arena,
+    me: EntityId,
+    goal: NodeId,
+    accepts: fn(NodeKind) -> bool,
+    fx: &mut Effects<'_, Ev>,
+) -> Result<(), MoveError> {
+    let b = w
+        .at_node
+        .get(me)
+        .filter(|b| accepts(b.kind))
+        .ok_or(MoveError::NoBody(me))?;
+    if b.trip.is_some() {
+        return Err(MoveError::UnderWay(me));
+    }
+    if b.node == goal {
+        arrived(me, goal, fx);
+        return Ok(());
+    }
+    let track = plan(w, b.kind, b.node, goal)?;
+    let trip = Trip {
+        goal,
+        next: 1,
+        pending: None,
+        track: Arc::new(track),
+    };
+    schedule_hop(w, me, trip, fx);
+    Ok(())
+}
+
+/// Schedules the hop to the trip's next node and records it in the body.
+fn schedule_hop(w: &mut Arena, me: EntityId, mut trip: Trip, fx: &mut Effects<'_, Ev>) {
+    let Some((next, secs)) = trip.next_hop() else {
+        return;
+    };
+    let id = fx.schedule_in(SimDuration::from_secs_f64(secs), Target::Env, Ev::Hop(me));
+    trip.pending = Some(id);
+    let (from, to) = {
+        let b = w.at_node.get(me);
+        let mode = b.map(|b| b.kind.mode());
+        let node = b.map(|b| b.node);
+        (
+            mode.zip(node).and_then(|(m, n)| w.node_point(m, n)),
+            mode.and_then(|m| w.node_point(m, next)),
+        )
+    };
+    w.at_node.update(me, |b| {
+        if let (Some(a), Some(c)) = (from, to) {
+            let d = crate::geo::dist([a[0], a[1]], [c[0], c[1]]);
+            if d > 0.0 {
+                b.heading = libm::atan2(c[1] - a[1], c[0] - a[0]);
+            }
+            b.speed = if secs > 0.0 { d / secs } else { 0.0 };
+        }
+        b.trip = Some(trip);
+    });
+}
+
+/// The environment's side of a discrete hop: the body reaches its next node.
+pub fn on_hop(w: &mut Arena, who: EntityId, fx: &mut Effects<'_, Ev>) {
+    let Some(mut trip) = w.at_node.get(who).and_then(|b| b.trip.clone()) else {
+        return;
+    };
+    let Some((node, _)) = trip.next_hop() else {
+        return;
+    };
+    trip.next += 1;
+    trip.pending = None;
+    let done = trip.next >= trip.track.nodes.len();
+    let goal = trip.goal;
+    w.at_node.update(who, |b| {
+        b.node = node;
+        if done {
+            b.trip = None;
+            b.speed = 0.0;
+        }
+    });
+    if done {
+        arrived(who, goal, fx);
+    } else {
+        schedule_hop(w, who, trip, fx);
+    }
+}
+
+/// One step of the kinematic clock: interpolated vehicles and directed troopers. Keeps the
+/// clock running while any of them is under way.
+pub fn tick_kinematic(w: &mut Arena, fx: &mut Effects<'_, Ev>) {
+    let dt = w.steps.kinematic.as_secs_f64();
+    let busy_v = ground::interpolated::step_all(w, dt, fx);
+    let busy_t = troop::directed::step_all(w, dt, fx);
+    w.keep(Clock::Kinematic, busy_v || busy_t, fx);
+}
+
+/// One step of the physics clock: every physical vehicle's GoToNode and controllers, then
+/// the rigid-body step. Keeps the clock running while any vehicle is under way or moving.
+pub fn tick_physics(w: &mut Arena, fx: &mut Effects<'_, Ev>) {
+    let busy = ground::physical::step_all(w, fx);
+    w.keep(Clock::Physics, busy, fx);
+}

@@ -1,0 +1,425 @@
+//! The arena: the tactical environment at every level of fidelity, as storages.
+//!
+//! One [`Arena`] holds a storage per entity family and level (vehicles at nodes, on the
+//! ground mesh, as rigid bodies; troopers at nodes or directed; aircraft on lattices,
+//! kinematic or dynamic), the route-following state of GoToNode and WalkToNode, and the
+//! autopilots' state. An entity lives in exactly one body storage: that is its level. Only
+//! sensors and actuators receive the arena; agents see it through them
+//! ([`vitro::sim::Context`]).
+//!
+//! Continuous levels advance in fixed steps, each a [`Ev::Tick`] event for the environment:
+//! one clock for the kinematic levels (interpolated vehicles, directed troops), one for the
+//! rigid-body physics, one for the aircraft. A clock runs only while something it moves is
+//! moving, so a run whose bodies have all arrived runs out of events.
+
+use crate::entity::air::{Lattice, LatticeBody, Pilot, ctol::CtolBody, vtol::VtolBody};
+use crate::entity::discrete::{AtNode, NodeKind};
+use crate::entity::ground::interpolated::OnGround;
+use crate::entity::ground::physical::{Chassis, Physics, PhysicsError};
+use crate::entity::route::{Follow, Roads};
+use crate::entity::troop::Walker;
+use crate::entity::{Level, Pose};
+use crate::map::Mode;
+use crate::site::Site;
+use crate::types::{GroundKind, TroopKind, TypeBook};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+use vitro::entity::EntityId;
+use vitro::env::{Effects, EntityStorage, NodeId, Probe, Sensor};
+use vitro::event::Target;
+use vitro::time::SimDuration;
+use vitro::trace::TraceHasher;
+
+/// A fixed-step clock of the arena.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum Clock {
+    /// Interpolated vehicles and directed troopers.
+    Kinematic,
+    /// Rigid-body vehicles.
+    Physics,
+    /// Kinematic and dynamic aircraft.
+    Flight,
+}
+
+impl Clock {
+    const ALL: [Clock; 3] = [Clock::Kinematic, Clock::Physics, Clock::Flight];
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// The events of a tactical model.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Ev {
+    /// Starts a controller.
+    Start,
+    /// To an agent: its body reached the goal node of its last GoToNode / WalkToNode.
+    Arrived(NodeId),
+    /// To an agent: its autopilot reached waypoint `i` of its current command.
+    Waypoint(u32),
+    /// To the environment: a node-level body reaches the next node of its trip.
+    Hop(EntityId),
+    /// To the environment: a lattice aircraft finishes its maneuver.
+    Maneuver(EntityId),
+    /// To the environment: one fixed step of a clock.
+    Tick(Clock),
+}
+
+/// Step lengths of the clocks.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Steps {
+    /// Interpolated vehicles and directed troopers.
+    pub kinematic: SimDuration,
+    /// Rigid-body vehicles (the rapier step).
+    pub physics: SimDuration,
+    /// Aircraft guidance and kinematics.
+    pub flight: SimDuration,
+    /// Sub-steps of the helicopter dynamics (and its inner control loops) per flight step.
+    pub rotor_substeps: u32,
+}
+
+impl Default for Steps {
+    /// 100 ms kinematic, 20 ms physics, 50 ms flight with 5 rotor sub-steps (10 ms).
+    fn default() -> Self {
+        Steps {
+            kinematic: SimDuration::from_millis(100),
+            physics: SimDuration::from_millis(20),
+            flight: SimDuration::from_millis(50),
+            rotor_substeps: 5,
+        }
+    }
+}
+
+/// Why a body could not be placed.
+#[derive(Debug, thiserror::Error)]
+pub enum PlaceError {
+    /// The node is not in the street graph.
+    #[error("node {0:?} is not in the street graph")]
+    NoNode(NodeId),
+    /// The entity already has a body.
+    #[error("entity {0:?} already has a body")]
+    Taken(EntityId),
+    /// The level does not exist for this family.
+    #[error("{0} is not a level of this entity")]
+    Level(Level),
+    /// The physics world refused the vehicle.
+    #[error(transparent)]
+    Physics(#[from] PhysicsError),
+}
+
+/// The tactical environment at every level of fidelity.
+#[derive(Debug)]
+pub struct Arena {
+    /// Town, terrain, line of sight.
+    pub site: Arc<Site>,
+    /// Entity type parameters.
+    pub types: Arc<TypeBook>,
+    /// Free street graphs (no forbidden segments).
+    pub roads: Arc<Roads>,
+    /// Step lengths.
+    pub steps: Steps,
+    /// Vehicles and troopers at nodes (discrete level).
+    pub at_node: EntityStorage<AtNode>,
+    /// Vehicles on the ground mesh (interpolated level).
+    pub on_ground: EntityStorage<OnGround>,
+    /// Vehicles as rigid bodies (physical level): the state copied after each step.
+    pub chassis: EntityStorage<Chassis>,
+    /// The rigid-body world behind [`chassis`](Self::chassis), built with the first vehicle.
+    pub physics: Option<Physics>,
+    /// Directed troopers.
+    pub walkers: EntityStorage<Walker>,
+    /// GoToNode / WalkToNode route following on the continuous levels.
+    pub follow: EntityStorage<Follow>,
+    /// Aircraft on their lattices (discrete level).
+    pub lattice: EntityStorage<LatticeBody>,
+    /// Fixed-wing aircraft (kinematic level).
+    pub ctol: EntityStorage<CtolBody>,
+    /// Helicopters (dynamic level).
+    pub vtol: EntityStorage<VtolBody>,
+    /// Autopilot state of every aircraft.
+    pub pilots: EntityStorage<Pilot>,
+    running: [bool; 3],
+}
+
+impl Arena {
+    /// An empty arena on `site` with the built-in type parameters.
+    pub fn new(site: Arc<Site>) -> Self {
+        let roads = Arc::new(Roads::new(&site));
+        Self::with(site, roads, Arc::new(TypeBook::builtin().clone()))
+    }
+
+    /// An empty arena on `site` with precomputed free street graphs and given type
+    /// parameters (to share them between runs).
+    pub fn with(site: Arc<Site>, roads: Arc<Roads>, types: Arc<TypeBook>) -> Self {
+        Arena {
+            site,
+            types,
+            roads,
+            steps: Steps::default(),
+            at_node: EntityStorage::default(),
+            on_ground: EntityStorage::default(),
+            chassis: EntityStorage::default(),
+            physics: None,
+            walkers: EntityStorage::default(),
+            follow: EntityStorage::default(),
+            lattice: EntityStorage::default(),
+            ctol: EntityStorage::default(),
+            vtol: EntityStorage::default(),
+            pilots: EntityStorage::default(),
+            running: [false; 3],
+        }
+    }
+
+    /// True if `id` has a body here.
+    pub fn has_body(&self, id: EntityId) -> bool {
+        self.at_node.contains(id)
+            || self.on_ground.contains(id)
+            || self.chassis.contains(id)
+            || self.walkers.contains(id)
+            || self.lattice.contains(id)
+            || self.ctol.contains(id)
+            || self.vtol.contains(id)
+    }
+
+    /// World position of a street node on the ground.
+    pub fn node_point(&self, mode: Mode, node: NodeId) -> Option<[f64; 3]> {
+        let p = self.site.map.streets(mode).pos(node)?;
+        Some(self.site.on_ground(p))
+    }
+
+    /// Places a ground vehicle of `kind` at street node `node` at `level` (discrete,
+    /// interpolated or physical), facing `heading`.
+    pub fn add_vehicle(
+        &mut self,
+        id: EntityId,
+        kind: GroundKind,
+        level: Level,
+        node: NodeId,
+        heading: f64,
+    ) -> Result<(), PlaceError> {
+        if self.has_body(id) {
+            return Err(PlaceError::Taken(id));
+        }
+        let pos = self
+            .node_point(Mode::Drive, node)
+            .ok_or(PlaceError::NoNode(node))?;
+        match level {
+            Level::Discrete => {
+                let mut b = AtNode::new(NodeKind::Ground(kind), node);
+                b.heading = heading;
+                self.at_node.insert(id, b);
+            }
+            Level::Interpolated => {
+                self.on_ground.insert(
+                    id,
+                    OnGround {
+                        kind,
+                        node,
+                        pos,
+                        heading,
+                        speed: 0.0,
+                        cmd: None,
+                    },
+                );
+            }
+            Level::Physical => {
+                let site = self.site.clone();
+                let dt = self.steps.physics.as_secs_f64();
+                let ty = self.types.ground(kind).clone();
+                let physics = self.physics.get_or_insert_with(|| Physics::new(&site, dt));
+                let mut row =
+                    physics.add_vehicle(&site, id, kind, &ty, [pos[0], pos[1]], heading)?;
+                row.node = node;
+                self.chassis.insert(id, row);
+            }
+            other => return Err(PlaceError::Level(other)),
+        }
+        Ok(())
+    }
+
+    /// Places a trooper of `kind` at walk-graph node `node` at `level` (discrete or
+    /// directed), facing `heading`.
+    pub fn add_trooper(
+        &mut self,
+        id: EntityId,
+        kind: TroopKind,
+        level: Level,
+        node: NodeId,
+        heading: f64,
+    ) -> Result<(), PlaceError> {
+        if self.has_body(id) {
+            return Err(PlaceError::Taken(id));
+        }
+        let pos = self
+            .node_point(Mode::Walk, node)
+            .ok_or(PlaceError::NoNode(node))?;
+        match level {
+            Level::Discrete => {
+                let mut b = AtNode::new(NodeKind::Troop(kind), node);
+                b.heading = heading;
+                self.at_node.insert(id, b);
+            }
+            Level::Directed => {
+                self.walkers.insert(
+                    id,
+                    Walker {
+                        kind,
+                        node,
+                        pos,
+                        heading,
+                        speed: 0.0,
+                        cmd: None,
+                    },
+                );
+            }
+            other => return Err(PlaceError::Level(other)),
+        }
+        Ok(())
+    }
+
+    /// Where `id` is and how it moves, whatever its level.
+    pub fn pose(&self, id: EntityId) -> Option<Pose> {
+        if let Some(b) = self.at_node.get(id) {
+            let pos = self.node_point(b.kind.mode(), b.node)?;
+            return Some(Pose {
+                pos,
+                heading: b.heading,
+                speed: b.speed,
+                level: Level::Discrete,
+            });
+        }
+        if let Some(b) = self.on_ground.get(id) {
+            return Some(Pose {
+                pos: b.pos,
+                heading: b.heading,
+                speed: b.speed,
+                level: Level::Interpolated,
+            });
+        }
+        if let Some(b) = self.chassis.get(id) {
+            return Some(Pose {
+                pos: b.ground_point(),
+                heading: b.heading(),
+                speed: b.speed,
+                level: Level::Physical,
+            });
+        }
+        if let Some(b) = self.walkers.get(id) {
+            return Some(Pose {
+                pos: b.pos,
+                heading: b.heading,
+                speed: b.speed,
+                level: Level::Directed,
+            });
+        }
+        if let Some(b) = self.lattice.get(id) {
+            return Some(Pose {
+                pos: b.lattice.point(b.cell),
+                heading: b.heading(),
+                speed: b.speed,
+                level: Level::Discrete,
+            });
+        }
+        if let Some(b) = self.ctol.get(id) {
+            return Some(Pose {
+                pos: b.pos,
+                heading: b.heading,
+                speed: b.speed,
+                level: Level::Kinematic,
+            });
+        }
+        if let Some(b) = self.vtol.get(id) {
+            return Some(Pose {
+                pos: b.pos,
+                heading: b.att[2],
+                speed: libm::sqrt(b.vel.iter().map(|v| v * v).sum()),
+                level: Level::Dynamic,
+            });
+        }
+        None
+    }
+
+    /// The lattice an aircraft of `cell` metres by `layer` metres uses (shared origin: the
+    /// terrain's lower-left corner at height 0).
+    pub fn lattice_of(cell: f64, layer: f64) -> Lattice {
+        Lattice {
+            cell,
+            layer,
+            origin: [0.0, 0.0, 0.0],
+        }
+    }
+
+    /// Starts `clock` (its first tick one step from now) unless it is running.
+    pub fn wake(&mut self, clock: Clock, fx: &mut Effects<'_, Ev>) {
+        if !self.running[clock.index()] {
+            self.running[clock.index()] = true;
+            fx.schedule_in(self.step_of(clock), Target::Env, Ev::Tick(clock));
+        }
+    }
+
+    /// Schedules the next tick of `clock` if `busy`, or marks it stopped.
+    pub fn keep(&mut self, clock: Clock, busy: bool, fx: &mut Effects<'_, Ev>) {
+        self.running[clock.index()] = busy;
+        if busy {
+            fx.schedule_in(self.step_of(clock), Target::Env, Ev::Tick(clock));
+        }
+    }
+
+    /// The step of `clock`.
+    pub fn step_of(&self, clock: Clock) -> SimDuration {
+        match clock {
+            Clock::Kinematic => self.steps.kinematic,
+            Clock::Physics => self.steps.physics,
+            Clock::Flight => self.steps.flight,
+        }
+    }
+
+    /// True if `clock` is running.
+    pub fn is_running(&self, clock: Clock) -> bool {
+        self.running[clock.index()]
+    }
+
+    /// A digest of every storage's writes (part of the trace hash).
+    pub fn digest(&self) -> u64 {
+        let mut h = TraceHasher::default();
+        for d in [
+            self.at_node.digest(),
+            self.on_ground.digest(),
+            self.chassis.digest(),
+            self.walkers.digest(),
+            self.follow.digest(),
+            self.lattice.digest(),
+            self.ctol.digest(),
+            self.vtol.digest(),
+            self.pilots.digest(),
+        ] {
+            h.write_u64(d);
+        }
+        for c in Clock::ALL {
+            h.write_u64(u64::from(self.running[c.index()]));
+        }
+        h.finish()
+    }
+}
+
+/// Own position: the body's pose (a perfect GPS and compass).
+#[derive(Copy, Clone, Debug, Default)]
+pub struct OwnPose;
+
+impl Sensor<Arena> for OwnPose {
+    type Reading = Option<Pose>;
+    fn read(&self, env: &Arena, me: EntityId, _: &mut Probe<'_>) -> Option<Pose> {
+        env.pose(me)
+    }
+}
+
+/// Another entity's pose, as a tracking sensor (a camera locked on a target) reports it.
+#[derive(Copy, Clone, Debug)]
+pub struct TrackTarget(pub EntityId);
+
+impl Sensor<Arena> for TrackTarget {
+    type Reading = Option<Pose>;
+    fn read(&self, env: &Arena, _: EntityId, _: &mut Probe<'_>) -> Option<Pose> {
+        env.pose(self.0)
+    }
+}

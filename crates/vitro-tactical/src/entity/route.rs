@@ -1,0 +1,605 @@
+//! Routes on the street graphs: the streets a body may use, the fine track of a path, and the
+//! time-optimal speed profile along it.
+//!
+//! - [`Roads`]: each street graph without the segments that pass through a forbidden zone, so
+//!   that a route planned on the abstract graph never enters one (the property the cross-level
+//!   check then re-checks on every concrete level).
+//! - [`Track`]: a planned path as world points at most [`TRACK_STEP`] apart on the ground (or
+//!   bridge deck), with the node each point belongs to, a speed limit at each point, and the
+//!   time the profile reaches it.
+//! - Ground vehicles: [`Track::plan_vehicle`] runs a forward pass (traction, engine power,
+//!   rolling resistance, drag, grade: [`GroundType::accel_limit`]) and a backward pass
+//!   (braking), under the street limits and the corner speeds of
+//!   [`GroundType::corner_speed`]. Its arrival time is the *discrete estimate*.
+//! - Troops: [`Track::plan_walk`] gives each piece the Pandolf walking speed for the load and
+//!   the grade ([`TroopParams::walking_speed`]).
+
+use crate::geo::{P2, dist};
+use crate::map::{Mode, StreetEdge, StreetNode};
+use crate::site::Site;
+use crate::types::{GroundType, SpeedLimits, TroopParams};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+use vitro::env::{GraphStorage, NodeId};
+
+/// Largest spacing of track points, metres.
+pub const TRACK_STEP: f64 = 1.0;
+/// Spacing used to test streets against forbidden zones, metres.
+const ZONE_PROBE: f64 = 0.5;
+
+/// Why no route could be planned.
+#[derive(Clone, Debug, PartialEq, thiserror::Error, Serialize, Deserialize)]
+pub enum RouteError {
+    /// A node is not in the graph.
+    #[error("node {0:?} is not in the street graph")]
+    NoNode(NodeId),
+    /// The goal cannot be reached on free streets.
+    #[error("no free route from node {from:?} to node {to:?}")]
+    NoPath {
+        /// Start.
+        from: NodeId,
+        /// Goal.
+        to: NodeId,
+    },
+}
+
+/// One mode's street graph with the segments through forbidden zones left out.
+#[derive(Clone, Debug)]
+pub struct FreeGraph {
+    /// Which streets.
+    pub mode: Mode,
+    /// Same nodes as the site's street graph; only edges over free segments.
+    pub graph: GraphStorage<StreetNode, StreetEdge>,
+    /// Per segment of the street graph: true if some point of it is forbidden.
+    pub blocked: Vec<bool>,
+    /// Per node: true if it is in the largest strongly connected part of the free graph
+    /// (every such node reaches every other).
+    pub main: Vec<bool>,
+}
+
+impl FreeGraph {
+    fn new(site: &Site, mode: Mode) -> Self {
+        let sg = site.map.streets(mode);
+        let blocked: Vec<bool> = sg
+            .segments
+            .iter()
+            .map(|s| {
+                s.points.windows(2).any(|w| {
+                    let n = (dist(w[0], w[1]) / ZONE_PROBE).ceil().max(1.0) as usize;
+                    (0..=n).any(|k| {
+                        let t = k as f64 / n as f64;
+                        let p = [
+                            w[0][0] + t * (w[1][0] - w[0][0]),
+                            w[0][1] + t * (w[1][1] - w[0][1]),
+                        ];
+                        site.zones.is_forbidden(p)
+                    })
+                })
+            })
+            .collect();
+        let mut graph = GraphStorage::default();
+        for n in 0..sg.graph.node_count() as u32 {
+            if let Some(data) = sg.graph.node(NodeId(n)) {
+                graph.add_node(data.clone());
+            }
+        }
+        for n in 0..sg.graph.node_count() as u32 {
+            for (to, len, e) in sg.graph.neighbors(NodeId(n)) {
+                if !blocked[e.segment as usize] {
+                    graph.add_edge(NodeId(n), to, len, *e);
+                }
+            }
+        }
+        let main = largest_scc(&graph);
+        FreeGraph {
+            mode,
+            graph,
+            blocked,
+            main,
+        }
+    }
+
+    /// Number of free directed edges leaving `n`.
+    pub fn degree(&self, n: NodeId) -> usize {
+        self.graph.neighbors(n).count()
+    }
+
+    /// The node of the main (largest strongly connected) part nearest to the town point `p`
+    /// (ties to the lower id): any two such nodes are joined by free routes both ways.
+    pub fn nearest_connected(&self, p: P2) -> Option<NodeId> {
+        (0..self.graph.node_count() as u32)
+            .map(NodeId)
+            .filter(|&n| self.main[n.0 as usize])
+            .filter_map(|n| self.graph.node(n).map(|s| (n, dist(p, s.pos))))
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+            .map(|(n, _)| n)
+    }
+
+    /// Shortest free path from `from` to `to`.
+    pub fn path(&self, from: NodeId, to: NodeId) -> Result<Vec<NodeId>, RouteError> {
+        for n in [from, to] {
+            if self.graph.node(n).is_none() {
+                return Err(RouteError::NoNode(n));
+            }
+        }
+        self.graph
+            .shortest_path(from, to)
+            .map(|(_, p)| p)
+            .ok_or(RouteError::NoPath { from, to })
+    }
+}
+
+/// Membership of the largest strongly connected component (Kosaraju, iterative; ties to
+/// the component with the lowest node id).
+fn largest_scc<N, E>(g: &GraphStorage<N, E>) -> Vec<bool> {
+    let n = g.node_count();
+    let mut rev: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for u in 0..n as u32 {
+        for (v, _, _) in g.neighbors(NodeId(u)) {
+            rev[v.0 as usize].push(u);
+        }
+    }
+    // First pass: finishing order of a depth-first search on the graph.
+    let mut seen = vec![false; n];
+    let mut order = Vec::with_capacity(n);
+    for root in 0..n {
+        if seen[root] {
+            continue;
+        }
+        seen[root] = true;
+        let mut stack: Vec<(u32, Vec<u32>)> = vec![(
+            root as u32,
+            g.neighbors(NodeId(root as u32))
+                .map(|(v, _, _)| v.0)
+                .collect(),
+        )];
+        while let Some((u, rest)) = stack.last_mut() {
+            if let Some(v) = rest.pop() {
+                if !seen[v as usize] {
+                    seen[v as usize] = true;
+                    let next = g.neighbors(NodeId(v)).map(|(w, _, _)| w.0).collect();
+                    stack.push((v, next));
+                }
+            } else {
+                order.push(*u);
+                stack.pop();
+            }
+        }
+    }
+    // Second pass: components on the reversed graph in reverse finishing order.
+    let mut comp = vec![u32::MAX; n];
+    let mut sizes: Vec<(usize, u32)> = Vec::new();
+    for &root in order.iter().rev() {
+        if comp[root as usize] != u32::MAX {
+            continue;
+        }
+        let c = sizes.len() as u32;
+        let mut size = 0;
+        let mut low = root;
+        let mut stack = vec![root];
+        comp[root as usize] = c;
+        while let Some(u) = stack.pop() {
+            size += 1;
+            low = low.min(u);
+            for &v in &rev[u as usize] {
+                if comp[v as usize] == u32::MAX {
+                    comp[v as usize] = c;
+                    stack.push(v);
+                }
+            }
+        }
+        sizes.push((size, low));
+    }
+    let best = sizes
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.0.cmp(&b.1.0).then(b.1.1.cmp(&a.1.1)))
+        .map(|(i, _)| i as u32);
+    comp.iter().map(|&c| Some(c) == best).collect()
+}
+
+/// The free street graphs of a site, built once and shared by every run on it.
+#[derive(Clone, Debug)]
+pub struct Roads {
+    /// For vehicles.
+    pub drive: FreeGraph,
+    /// For troops.
+    pub walk: FreeGraph,
+}
+
+impl Roads {
+    /// Tests every street segment of `site` against its forbidden zones.
+    pub fn new(site: &Site) -> Self {
+        Roads {
+            drive: FreeGraph::new(site, Mode::Drive),
+            walk: FreeGraph::new(site, Mode::Walk),
+        }
+    }
+    /// The free graph of `mode`.
+    pub fn of(&self, mode: Mode) -> &FreeGraph {
+        match mode {
+            Mode::Drive => &self.drive,
+            Mode::Walk => &self.walk,
+        }
+    }
+}
+
+/// A planned path as a fine polyline with its speed profile.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Track {
+    /// World points, at most [`TRACK_STEP`] apart.
+    pub pts: Vec<[f64; 3]>,
+    /// Distance along the track at each point (3D), metres.
+    pub s: Vec<f64>,
+    /// Speed limit at each point (street limit, corner), m/s: before profiling.
+    pub limit: Vec<f64>,
+    /// Profile speed at each point, m/s.
+    pub v: Vec<f64>,
+    /// Profile time at each point, seconds from the start.
+    pub t: Vec<f64>,
+    /// The path's nodes with the index of their point, in order.
+    pub nodes: Vec<(usize, NodeId)>,
+}
+
+impl Track {
+    /// The points of `path` on the free graph of `mode`: each street segment's ground (or deck)
+    /// path, resampled to [`TRACK_STEP`], with its street class's speed limit and the corner
+    /// speeds left unset (infinite). The ground speed limit is `limits` (`None`: no limit).
+    fn geometry(
+        site: &Site,
+        roads: &FreeGraph,
+        path: &[NodeId],
+        limits: Option<&SpeedLimits>,
+    ) -> Result<Track, RouteError> {
+        let sg = site.map.streets(roads.mode);
+        let mut tr = Track::default();
+        let Some(&first) = path.first() else {
+            return Ok(tr);
+        };
+        let start = sg.pos(first).ok_or(RouteError::NoNode(first))?;
+        let z0 = site.ground(site.to_world(start)).unwrap_or(0.0);
+        let w0 = site.to_world(start);
+        tr.pts.push([w0[0], w0[1], z0]);
+        tr.limit.push(f64::INFINITY);
+        tr.nodes.push((0, first));
+        for w in path.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let edge = roads
+                .graph
+                .neighbors(a)
+                .filter(|(t, _, _)| *t == b)
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+                .map(|(_, _, e)| *e)
+                .ok_or(RouteError::NoPath { from: a, to: b })?;
+            let seg = &sg.segments[edge.segment as usize];
+            let mut pts = site
+                .segment_path(roads.mode, edge.segment as usize)
+                .unwrap_or_default();
+            if !edge.forward {
+                pts.reverse();
+            }
+            let cap = limits.map_or(f64::INFINITY, |l| l.for_class(&seg.class));
+            for q in pts.windows(2) {
+                let (p0, p1) = (q[0], q[1]);
+                let l = dist([p0[0], p0[1]], [p1[0], p1[1]]);
+                let n = (l / TRACK_STEP).ceil().max(1.0) as usize;
+                for k in 1..=n {
+                    let t = k as f64 / n as f64;
+                    let x = p0[0] + t * (p1[0] - p0[0]);
+                    let y = p0[1] + t * (p1[1] - p0[1]);
+                    let z = if seg.bridge {
+                        p0[2] + t * (p1[2] - p0[2])
+                    } else {
+                        site.ground([x, y]).unwrap_or(p0[2] + t * (p1[2] - p0[2]))
+                    };
+                    if let Some(last) = tr.limit.last_mut() {
+                        *last = last.min(cap);
+                    }
+                    tr.pts.push([x, y, z]);
+                    tr.limit.push(cap);
+                }
+            }
+            tr.nodes.push((tr.pts.len() - 1, b));
+        }
+        tr.s = Vec::with_capacity(tr.pts.len());
+        let mut s = 0.0;
+        for (i, p) in tr.pts.iter().enumerate() {
+            if i > 0 {
+                s += dist3(tr.pts[i - 1], *p);
+            }
+            tr.s.push(s);
+        }
+        Ok(tr)
+    }
+
+    /// Plans `path` for a ground vehicle of type `ty`: street limits, corner speeds, then the
+    /// forward (acceleration) and backward (braking) passes. Starts and ends at rest.
+    pub fn plan_vehicle(
+        site: &Site,
+        roads: &FreeGraph,
+        path: &[NodeId],
+        ty: &GroundType,
+        limits: &SpeedLimits,
+    ) -> Result<Track, RouteError> {
+        let mut tr = Self::geometry(site, roads, path, Some(limits))?;
+        let n = tr.pts.len();
+        let vmax = ty.max_speed();
+        for l in &mut tr.limit {
+            *l = l.min(vmax);
+        }
+        // Corner speeds at the vertices where the heading changes.
+        for i in 1..n.saturating_sub(1) {
+            let (a, b, c) = (tr.pts[i - 1], tr.pts[i], tr.pts[i + 1]);
+            let h0 = libm::atan2(b[1] - a[1], b[0] - a[0]);
+            let h1 = libm::atan2(c[1] - b[1], c[0] - b[0]);
+            let turn = wrap_angle(h1 - h0);
+            if turn.abs() > 1e-6 {
+                let room = turn_room(&tr.pts, i);
+                tr.limit[i] = tr.limit[i].min(ty.corner_speed(turn, room));
+            }
+        }
+        let mut v = vec![0.0; n];
+        // Forward pass: v² grows by 2 a ds, a from power, traction, resistances and grade.
+        for i in 1..n {
+            let ds = tr.s[i] - tr.s[i - 1];
+            let slope = slope(tr.pts[i - 1], tr.pts[i]);
+            let a = ty.accel_limit(v[i - 1], slope).max(0.0);
+            let reach = libm::sqrt(v[i - 1] * v[i - 1] + 2.0 * a * ds);
+            v[i] = reach.min(tr.limit[i]);
+        }
+        if let Some(last) = v.last_mut() {
+            *last = 0.0;
+        }
+        // Backward pass: braking at max_decel.
+        for i in (0..n.saturating_sub(1)).rev() {
+            let ds = tr.s[i + 1] - tr.s[i];
+            let reach = libm::sqrt(v[i + 1] * v[i + 1] + 2.0 * ty.max_decel * ds);
+            v[i] = v[i].min(reach);
+        }
+        // A vehicle that cannot climb a grade at all crawls up at a walking pace instead of
+        // never arriving: keep the profile positive away from the two ends.
+        let inner = 1..n.saturating_sub(1);
+        for (vi, li) in v[inner.clone()].iter_mut().zip(&tr.limit[inner]) {
+            if *vi < 0.5 {
+                *vi = 0.5f64.min(*li);
+            }
+        }
+        tr.t = times(&tr.s, &v);
+        tr.v = v;
+        Ok(tr)
+    }
+
+    /// Plans `path` for a trooper carrying `load` kg: each piece at the Pandolf walking speed
+    /// for its grade.
+    pub fn plan_walk(
+        site: &Site,
+        roads: &FreeGraph,
+        path: &[NodeId],
+        troops: &TroopParams,
+        load: f64,
+    ) -> Result<Track, RouteError> {
+        let mut tr = Self::geometry(site, roads, path, None)?;
+        let n = tr.pts.len();
+        let mut v = vec![0.0; n];
+        let mut t = vec![0.0; n];
+        for i in 1..n {
+            let grade = 100.0 * slope(tr.pts[i - 1], tr.pts[i]);
+            let speed = troops.walking_speed(load, grade);
+            v[i] = speed;
+            t[i] = t[i - 1] + (tr.s[i] - tr.s[i - 1]) / speed;
+            tr.limit[i] = speed;
+        }
+        if n > 1 {
+            v[0] = v[1];
+            tr.limit[0] = v[1];
+        }
+        tr.v = v;
+        tr.t = t;
+        Ok(tr)
+    }
+
+    /// Total length, metres.
+    pub fn length(&self) -> f64 {
+        self.s.last().copied().unwrap_or(0.0)
+    }
+    /// Profile time to the end, seconds (the discrete estimate).
+    pub fn duration(&self) -> f64 {
+        self.t.last().copied().unwrap_or(0.0)
+    }
+    /// The last node of the path.
+    pub fn goal(&self) -> Option<NodeId> {
+        self.nodes.last().map(|&(_, n)| n)
+    }
+    /// The index of the last point at or before distance `s` (binary search).
+    pub fn index_at(&self, s: f64) -> usize {
+        self.s.partition_point(|&x| x <= s).saturating_sub(1)
+    }
+    /// The point at distance `s` along the track (clamped to its ends).
+    pub fn point_at(&self, s: f64) -> [f64; 3] {
+        let Some(&last) = self.pts.last() else {
+            return [0.0; 3];
+        };
+        if s >= self.length() {
+            return last;
+        }
+        let i = self.index_at(s.max(0.0));
+        let (a, b) = (self.pts[i], self.pts[(i + 1).min(self.pts.len() - 1)]);
+        let l = self.s.get(i + 1).map_or(0.0, |&s1| s1 - self.s[i]);
+        let t = if l > 0.0 {
+            ((s - self.s[i]) / l).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        [
+            a[0] + t * (b[0] - a[0]),
+            a[1] + t * (b[1] - a[1]),
+            a[2] + t * (b[2] - a[2]),
+        ]
+    }
+    /// The profile speed at distance `s`, interpolated in v² between points (exact for the
+    /// constant-acceleration pieces the profile is made of).
+    pub fn speed_at(&self, s: f64) -> f64 {
+        if self.v.is_empty() {
+            return 0.0;
+        }
+        if s >= self.length() {
+            return self.v[self.v.len() - 1];
+        }
+        let i = self.index_at(s.max(0.0));
+        let j = (i + 1).min(self.v.len() - 1);
+        let l = self.s[j] - self.s[i];
+        let t = if l > 0.0 {
+            ((s - self.s[i]) / l).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (a, b) = (self.v[i], self.v[j]);
+        libm::sqrt(a * a + t * (b * b - a * a))
+    }
+    /// The node passed last at distance `s`.
+    pub fn node_at(&self, s: f64) -> Option<NodeId> {
+        let i = self.index_at(s);
+        self.nodes
+            .iter()
+            .take_while(|&&(k, _)| k <= i)
+            .last()
+            .map(|&(_, n)| n)
+    }
+    /// Heading of the track (radians from east) at distance `s`.
+    pub fn heading_at(&self, s: f64) -> f64 {
+        let n = self.pts.len();
+        if n < 2 {
+            return 0.0;
+        }
+        let i = self.index_at(s).min(n - 2);
+        let (a, b) = (self.pts[i], self.pts[i + 1]);
+        libm::atan2(b[1] - a[1], b[0] - a[0])
+    }
+}
+
+/// GoToNode / WalkToNode on a continuous level: the planned track and how far along it the
+/// body is.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Follow {
+    /// The goal node.
+    pub goal: NodeId,
+    /// Distance along the track reached, metres.
+    pub s: f64,
+    /// Index of the next track point to steer to.
+    pub next: usize,
+    /// The plan (not part of the state digest: it is a function of the command).
+    #[serde(skip)]
+    pub track: Arc<Track>,
+}
+
+/// Distance between two 3D points.
+pub fn dist3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    libm::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+}
+
+/// Rise over run from `a` to `b` (0 for a vertical or zero step).
+fn slope(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let run = dist([a[0], a[1]], [b[0], b[1]]);
+    if run > 1e-9 { (b[2] - a[2]) / run } else { 0.0 }
+}
+
+/// An angle in (-π, π].
+pub fn wrap_angle(a: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let r = a - tau * libm::floor((a + std::f64::consts::PI) / tau);
+    if r <= -std::f64::consts::PI {
+        r + tau
+    } else {
+        r
+    }
+}
+
+/// Room for a fillet at vertex `i`: half the shorter of the two straight runs on either side
+/// (runs of collinear resampled points count as one).
+fn turn_room(pts: &[[f64; 3]], i: usize) -> f64 {
+    let heading = |a: [f64; 3], b: [f64; 3]| libm::atan2(b[1] - a[1], b[0] - a[0]);
+    let run = |dir: i64| {
+        let mut len = 0.0;
+        let mut k = i as i64;
+        let h0 = if dir < 0 {
+            heading(pts[i - 1], pts[i])
+        } else {
+            heading(pts[i], pts[i + 1])
+        };
+        loop {
+            let j = k + dir;
+            if j < 0 || j as usize >= pts.len() {
+                break;
+            }
+            let (a, b) = (pts[k as usize], pts[j as usize]);
+            let h = if dir < 0 {
+                heading(b, a)
+            } else {
+                heading(a, b)
+            };
+            if wrap_angle(h - h0).abs() > 1e-6 {
+                break;
+            }
+            len += dist([a[0], a[1]], [b[0], b[1]]);
+            k = j;
+        }
+        len
+    };
+    run(-1).min(run(1)) / 2.0
+}
+
+/// Cumulative times of a profile: constant acceleration on each piece, so a piece takes
+/// `2 ds / (v0 + v1)`.
+fn times(s: &[f64], v: &[f64]) -> Vec<f64> {
+    let mut t = vec![0.0; s.len()];
+    for i in 1..s.len() {
+        let ds = s[i] - s[i - 1];
+        let vm = v[i - 1] + v[i];
+        t[i] = t[i - 1] + if vm > 1e-9 { 2.0 * ds / vm } else { 0.0 };
+    }
+    t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn angles_wrap_into_half_open_range() {
+        use std::f64::consts::PI;
+        assert!((wrap_angle(3.0 * PI) - PI).abs() < 1e-12);
+        assert!((wrap_angle(-PI) - PI).abs() < 1e-12);
+        assert!((wrap_angle(0.5) - 0.5).abs() < 1e-12);
+        assert!((wrap_angle(-2.0 * PI + 0.1) - 0.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn constant_acceleration_times() {
+        // From rest at 2 m/s² over 4 m: v = 4 m/s, t = 2 s.
+        let t = times(&[0.0, 4.0], &[0.0, 4.0]);
+        assert!((t[1] - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn largest_scc_needs_both_ways() {
+        // 0 <-> 1 <-> 2, 2 -> 3 (3 reaches nothing), 4 <-> 5.
+        let mut g: GraphStorage<(), ()> = GraphStorage::default();
+        let n: Vec<NodeId> = (0..6).map(|_| g.add_node(())).collect();
+        g.add_undirected_edge(n[0], n[1], 1.0, ());
+        g.add_undirected_edge(n[1], n[2], 1.0, ());
+        g.add_edge(n[2], n[3], 1.0, ());
+        g.add_undirected_edge(n[4], n[5], 1.0, ());
+        assert_eq!(largest_scc(&g), [true, true, true, false, false, false]);
+    }
+
+    #[test]
+    fn room_spans_collinear_runs() {
+        let pts: Vec<[f64; 3]> = (0..=10)
+            .map(|i| [i as f64, 0.0, 0.0])
+            .chain((1..=4).map(|j| [10.0, j as f64, 0.0]))
+            .collect();
+        // A right angle at x = 10: 10 m before, 4 m after: room 2 m.
+        assert!((turn_room(&pts, 10) - 2.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,101 @@
+//! The tactical model: the [`Arena`] as a `vitro` environment, its agents any
+//! [`Controller`]s.
+//!
+//! [`Tactical`] is a [`Model`] whose environment is the arena, whose events are [`Ev`] and
+//! whose agents are boxed [`Controller`]s, so that one simulation can hold controllers of
+//! every kind and level (each generic over its top actuator, e.g. `VisitNodes<GoToNode>`).
+//! The environment's own events run the levels: discrete hops and maneuvers, and the
+//! fixed-step clocks of the continuous levels.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use vitro::prelude::*;
+//! use vitro_tactical::actuate::ground::discrete::GoToNode;
+//! use vitro_tactical::arena::{Arena, Ev};
+//! use vitro_tactical::entity::Level;
+//! use vitro_tactical::mission::VisitNodes;
+//! use vitro_tactical::model::{Controller, Tactical};
+//! use vitro_tactical::types::GroundKind;
+//! # use vitro_tactical::{map::{MapConfig, TownMap}, site::{Site, SiteConfig}, terrain::Terrain};
+//! # let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+//! # let map = TownMap::load(format!("{root}/data/maps/kotka.osm.pbf"), &MapConfig::default()).unwrap();
+//! # let terrain = Terrain::load(format!("{root}/data/terrain/valley_64x64_90m.asc")).unwrap();
+//! # let site = Arc::new(Site::new(map, terrain, &SiteConfig::default()).unwrap());
+//! let arena = Arena::new(site);
+//! let drive = &arena.roads.drive;
+//! let (a, b) = (drive.nearest_connected([-300.0, 0.0]).unwrap(),
+//!               drive.nearest_connected([300.0, 100.0]).unwrap());
+//! let mut sim = Simulation::<Tactical>::new(arena, 7);
+//! let car = sim.add_agent("car", Box::new(VisitNodes::new(vec![b], GoToNode))).unwrap();
+//! sim.env_mut().add_vehicle(car, GroundKind::Car, Level::Discrete, a, 0.0).unwrap();
+//! sim.schedule(SimTime::ZERO, Target::Entity(car), Ev::Start).unwrap();
+//! sim.run_until(SimTime::from_secs(3600));
+//! let visit = sim.agent(car).and_then(|c| c.as_any().downcast_ref::<VisitNodes<GoToNode>>());
+//! assert_eq!(visit.unwrap().log.last().map(|&(_, n)| n), Some(b));
+//! ```
+
+use crate::actuate;
+use crate::arena::{Arena, Clock, Ev};
+use std::any::Any;
+use vitro::entity::EntityId;
+use vitro::env::Effects;
+use vitro::sim::{Agent, Context, Input, Model};
+use vitro::time::SimTime;
+
+/// The tactical model over the [`Arena`].
+pub struct Tactical;
+
+/// Access to a controller's concrete type (to read its state after a run).
+pub trait AsAny: Any {
+    /// The controller as [`Any`], for `downcast_ref`.
+    fn as_any(&self) -> &dyn Any;
+}
+
+impl<T: Any> AsAny for T {
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// An agent of the tactical model: it senses and acts through the context only.
+pub trait Controller: AsAny {
+    /// Reacts to one input.
+    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>);
+}
+
+impl Agent<Tactical> for Box<dyn Controller> {
+    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+        (**self).handle(input, cx);
+    }
+}
+
+impl Model for Tactical {
+    type Env = Arena;
+    type Event = Ev;
+    type Msg = ();
+    type Agent = Box<dyn Controller>;
+
+    fn on_env_event(env: &mut Arena, event: &Ev, fx: &mut Effects<'_, Ev>) {
+        run_env_event(env, event, fx);
+    }
+
+    fn locate(env: &Arena, who: EntityId, _: SimTime) -> Option<[f64; 3]> {
+        env.pose(who).map(|p| p.pos)
+    }
+
+    fn state_digest(env: &Arena) -> u64 {
+        env.digest()
+    }
+}
+
+/// What the environment does with its own events (for models that embed the arena in a
+/// larger environment and forward its events).
+pub fn run_env_event(env: &mut Arena, event: &Ev, fx: &mut Effects<'_, Ev>) {
+    match event {
+        Ev::Hop(who) => actuate::on_hop(env, *who, fx),
+        Ev::Tick(Clock::Kinematic) => actuate::tick_kinematic(env, fx),
+        Ev::Tick(Clock::Physics) => actuate::tick_physics(env, fx),
+        Ev::Tick(Clock::Flight) | Ev::Maneuver(_) => {}
+        Ev::Start | Ev::Arrived(_) | Ev::Waypoint(_) => {}
+    }
+}

@@ -1,0 +1,68 @@
+//! Shared set-up of the level tests: the real town on the real terrain, loaded once.
+
+#![allow(dead_code)]
+
+use std::sync::{Arc, OnceLock};
+use vitro::prelude::*;
+use vitro_tactical::arena::{Arena, Ev};
+use vitro_tactical::entity::route::Roads;
+use vitro_tactical::map::{MapConfig, TownMap};
+use vitro_tactical::model::Tactical;
+use vitro_tactical::site::{Site, SiteConfig};
+use vitro_tactical::terrain::Terrain;
+use vitro_tactical::types::TypeBook;
+
+/// Kotka on the valley terrain, with its free street graphs.
+pub fn town() -> (Arc<Site>, Arc<Roads>) {
+    static TOWN: OnceLock<(Arc<Site>, Arc<Roads>)> = OnceLock::new();
+    TOWN.get_or_init(|| {
+        let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+        let map = TownMap::load(
+            format!("{root}/data/maps/kotka.osm.pbf"),
+            &MapConfig::default(),
+        )
+        .unwrap();
+        let terrain = Terrain::load(format!("{root}/data/terrain/valley_64x64_90m.asc")).unwrap();
+        let site = Arc::new(Site::new(map, terrain, &SiteConfig::default()).unwrap());
+        let roads = Arc::new(Roads::new(&site));
+        (site, roads)
+    })
+    .clone()
+}
+
+/// A fresh arena on the town.
+pub fn arena() -> Arena {
+    let (site, roads) = town();
+    Arena::with(site, roads, Arc::new(TypeBook::builtin().clone()))
+}
+
+/// A simulation of a fresh arena.
+pub fn sim(seed: u64) -> Simulation<Tactical> {
+    Simulation::new(arena(), seed)
+}
+
+/// Pose samples: (time s, position, speed).
+pub type Samples = Vec<(f64, [f64; 3], f64)>;
+
+/// Runs `sim` to `end`, sampling `id`'s pose after every event that moved time on:
+/// (time, position, speed).
+pub fn record(sim: &mut Simulation<Tactical>, id: EntityId, end: SimTime) -> Samples {
+    let mut out: Samples = Vec::new();
+    sim.run(end, |s| {
+        if let Some(p) = s.env().pose(id) {
+            let t = s.now().as_secs_f64();
+            match out.last_mut() {
+                Some(last) if last.0 == t => *last = (t, p.pos, p.speed),
+                _ => out.push((t, p.pos, p.speed)),
+            }
+        }
+        false
+    });
+    out
+}
+
+/// Starts `id`'s controller now.
+pub fn start(sim: &mut Simulation<Tactical>, id: EntityId) {
+    sim.schedule(sim.now(), Target::Entity(id), Ev::Start)
+        .unwrap();
+}
