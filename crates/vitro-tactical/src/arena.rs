@@ -12,7 +12,9 @@
 //! rigid-body physics, one for the aircraft. A clock runs only while something it moves is
 //! moving, so a run whose bodies have all arrived runs out of events.
 
-use crate::entity::air::{Lattice, LatticeBody, Pilot, ctol::CtolBody, vtol::VtolBody};
+use crate::entity::air::{
+    AirKind, Lattice, LatticeBody, Pilot, ctol::CtolBody, dir_of, vtol::VtolBody,
+};
 use crate::entity::discrete::{AtNode, NodeKind};
 use crate::entity::ground::interpolated::OnGround;
 use crate::entity::ground::physical::{Chassis, Physics, PhysicsError};
@@ -21,7 +23,7 @@ use crate::entity::troop::Walker;
 use crate::entity::{Level, Pose};
 use crate::map::Mode;
 use crate::site::Site;
-use crate::types::{GroundKind, TroopKind, TypeBook};
+use crate::types::{CtolKind, GroundKind, TroopKind, TypeBook, VtolKind};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::entity::EntityId;
@@ -277,6 +279,85 @@ impl Arena {
         Ok(())
     }
 
+    /// Places a fixed-wing aircraft of `kind` at world point `pos` at `level` (discrete or
+    /// kinematic), flying `heading` at cruise speed. (It is held there until its autopilot's
+    /// first command starts the flight clock.)
+    pub fn add_ctol(
+        &mut self,
+        id: EntityId,
+        kind: CtolKind,
+        level: Level,
+        pos: [f64; 3],
+        heading: f64,
+    ) -> Result<(), PlaceError> {
+        if self.has_body(id) {
+            return Err(PlaceError::Taken(id));
+        }
+        let ty = self.types.ctol(kind);
+        match level {
+            Level::Discrete => {
+                let lattice = Lattice::for_ctol(ty);
+                self.lattice.insert(
+                    id,
+                    LatticeBody {
+                        kind: AirKind::Ctol(kind),
+                        lattice,
+                        cell: lattice.cell_of(pos),
+                        dir: dir_of(heading),
+                        speed: ty.cruise_speed,
+                        moving_to: None,
+                        pending: None,
+                    },
+                );
+            }
+            Level::Kinematic => {
+                self.ctol
+                    .insert(id, CtolBody::new(kind, ty, pos, heading, ty.cruise_speed));
+            }
+            other => return Err(PlaceError::Level(other)),
+        }
+        Ok(())
+    }
+
+    /// Places a helicopter of `kind` hovering at world point `pos` at `level` (discrete or
+    /// dynamic), facing `heading`.
+    pub fn add_vtol(
+        &mut self,
+        id: EntityId,
+        kind: VtolKind,
+        level: Level,
+        pos: [f64; 3],
+        heading: f64,
+    ) -> Result<(), PlaceError> {
+        if self.has_body(id) {
+            return Err(PlaceError::Taken(id));
+        }
+        let ty = self.types.vtol(kind);
+        match level {
+            Level::Discrete => {
+                let lattice = Lattice::for_vtol(ty);
+                self.lattice.insert(
+                    id,
+                    LatticeBody {
+                        kind: AirKind::Vtol(kind),
+                        lattice,
+                        cell: lattice.cell_of(pos),
+                        dir: dir_of(heading),
+                        speed: 0.0,
+                        moving_to: None,
+                        pending: None,
+                    },
+                );
+            }
+            Level::Dynamic => {
+                self.vtol
+                    .insert(id, VtolBody::hovering(kind, ty, pos, heading));
+            }
+            other => return Err(PlaceError::Level(other)),
+        }
+        Ok(())
+    }
+
     /// Where `id` is and how it moves, whatever its level.
     pub fn pose(&self, id: EntityId) -> Option<Pose> {
         if let Some(b) = self.at_node.get(id) {
@@ -337,16 +418,6 @@ impl Arena {
             });
         }
         None
-    }
-
-    /// The lattice an aircraft of `cell` metres by `layer` metres uses (shared origin: the
-    /// terrain's lower-left corner at height 0).
-    pub fn lattice_of(cell: f64, layer: f64) -> Lattice {
-        Lattice {
-            cell,
-            layer,
-            origin: [0.0, 0.0, 0.0],
-        }
     }
 
     /// Starts `clock` (its first tick one step from now) unless it is running.

@@ -7,6 +7,7 @@
 
 pub mod actuate;
 pub mod arena;
+pub mod autopilot;
 pub mod entity;
 pub mod geo;
 pub mod info;

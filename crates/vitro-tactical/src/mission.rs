@@ -3,13 +3,20 @@
 //!
 //! - [`VisitNodes`]: visits a list of nodes in order (once or in a loop) through any actuator
 //!   whose command is a goal node: `GoToNode` for vehicles, `WalkToNode` for troopers.
+//! - [`FlightMission`]: flies a list of [`Leg`]s (waypoints, straight flight, loiter around a
+//!   moving ground target, loops over it) through any autopilot: either aircraft type at
+//!   either level.
 
 use crate::actuate::MoveError;
-use crate::arena::{Arena, Ev};
+use crate::arena::{Arena, Ev, OwnPose, TrackTarget};
+use crate::autopilot::FlyError;
+use crate::entity::air::FlightCommand;
 use crate::model::{Controller, Tactical};
+use serde::{Deserialize, Serialize};
+use vitro::entity::EntityId;
 use vitro::env::{Actuator, NodeId};
 use vitro::sim::{Context, Input};
-use vitro::time::SimTime;
+use vitro::time::{SimDuration, SimTime};
 
 /// Visits `route` node by node through the goal-node actuator `A`; logs each arrival.
 #[derive(Clone, Debug)]
@@ -63,6 +70,264 @@ where
         self.next += 1;
         if let Err(e) = cx.act(&self.goto, goal) {
             self.error = Some(e);
+        }
+    }
+}
+
+/// How often a loiter leg re-aims at its moving target.
+const REAIM: SimDuration = SimDuration::from_secs(2);
+/// Timer keys of re-aiming carry this bit (leg timers do not).
+const REAIM_KEY: u64 = 1 << 32;
+
+/// One leg of a flight mission.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Leg {
+    /// Fly through these world points in order.
+    Waypoints(Vec<[f64; 3]>),
+    /// Fly a course (radians from east) at an altitude (world metres) for `secs` seconds.
+    Straight {
+        /// Course, radians from east.
+        heading: f64,
+        /// Altitude, world metres.
+        altitude: f64,
+        /// Duration, seconds.
+        secs: f64,
+    },
+    /// Circle a ground target, counter-clockwise, `radius` metres around it and `height`
+    /// metres above it, for `secs` seconds; the circle follows the target as it moves (its
+    /// pose read through [`TrackTarget`]), aiming 45° ahead around it at every waypoint and
+    /// every two seconds.
+    Loiter {
+        /// The entity to circle.
+        target: EntityId,
+        /// Circle radius, metres.
+        radius: f64,
+        /// Height above the target, metres.
+        height: f64,
+        /// Duration, seconds.
+        secs: f64,
+    },
+    /// Fly back and forth over a ground target along `axis` (radians from east), turning
+    /// `half_length` metres beyond it on either side, `passes` times; each end is placed
+    /// around the target's current position.
+    Loop {
+        /// The entity to fly over.
+        target: EntityId,
+        /// Distance from the target to each turn point, metres.
+        half_length: f64,
+        /// Direction of the passes, radians from east.
+        axis: f64,
+        /// Height above the target, metres.
+        height: f64,
+        /// Number of passes.
+        passes: u32,
+    },
+}
+
+/// Flies `legs` in order through the autopilot `P`; logs every waypoint reached.
+#[derive(Clone, Debug)]
+pub struct FlightMission<P> {
+    /// The legs.
+    pub legs: Vec<Leg>,
+    /// Airspeed to ask for; `None` for the type's cruise speed.
+    pub speed: Option<f64>,
+    /// The top actuator (an autopilot).
+    pub pilot: P,
+    /// Index of the leg being flown (`legs.len()` once all are done).
+    pub leg: usize,
+    /// Waypoints reached: time, leg, waypoint index within the leg's last command.
+    pub log: Vec<(SimTime, usize, u32)>,
+    /// When each leg ended.
+    pub legs_done: Vec<SimTime>,
+    /// The last refusal from the autopilot, if any.
+    pub error: Option<FlyError>,
+    ends_at: Option<SimTime>,
+    passes: u32,
+}
+
+impl<P> FlightMission<P> {
+    /// A mission of `legs` flown through `pilot` at cruise speed.
+    pub fn new(legs: Vec<Leg>, pilot: P) -> Self {
+        FlightMission {
+            legs,
+            speed: None,
+            pilot,
+            leg: 0,
+            log: Vec::new(),
+            legs_done: Vec::new(),
+            error: None,
+            ends_at: None,
+            passes: 0,
+        }
+    }
+    /// True once every leg is flown.
+    pub fn finished(&self) -> bool {
+        self.leg >= self.legs.len()
+    }
+}
+
+impl<P> FlightMission<P>
+where
+    P: Actuator<Arena, Ev, Command = FlightCommand, Error = FlyError> + 'static,
+{
+    fn command(&mut self, cmd: FlightCommand, cx: &mut Context<'_, Tactical>) {
+        if let Err(e) = cx.act(&self.pilot, cmd) {
+            self.error = Some(e);
+        }
+    }
+
+    fn begin(&mut self, i: usize, cx: &mut Context<'_, Tactical>) {
+        if i > 0 && i <= self.legs.len() && self.legs_done.len() < i {
+            self.legs_done.push(cx.now());
+        }
+        self.leg = i;
+        self.passes = 0;
+        self.ends_at = None;
+        let Some(leg) = self.legs.get(i).cloned() else {
+            return;
+        };
+        match leg {
+            Leg::Waypoints(points) => self.command(
+                FlightCommand::Waypoints {
+                    points,
+                    speed: self.speed,
+                },
+                cx,
+            ),
+            Leg::Straight {
+                heading,
+                altitude,
+                secs,
+            } => {
+                self.command(
+                    FlightCommand::Straight {
+                        heading,
+                        altitude,
+                        speed: self.speed,
+                    },
+                    cx,
+                );
+                cx.set_timer(SimDuration::from_secs_f64(secs.max(0.0)), i as u64);
+            }
+            Leg::Loiter { secs, .. } => {
+                self.ends_at = Some(cx.now() + SimDuration::from_secs_f64(secs.max(0.0)));
+                self.aim(cx);
+                cx.set_timer(REAIM, REAIM_KEY | i as u64);
+            }
+            Leg::Loop { .. } => self.aim(cx),
+        }
+    }
+
+    /// The next waypoints of a loiter or loop leg, from where the target is now: the next
+    /// point and the one after it (so the autopilot carries its speed through the first; the
+    /// leg aims again as soon as the first is reached).
+    fn aim(&mut self, cx: &mut Context<'_, Tactical>) {
+        let Some(leg) = self.legs.get(self.leg).cloned() else {
+            return;
+        };
+        let points = match leg {
+            Leg::Loiter {
+                target,
+                radius,
+                height,
+                ..
+            } => {
+                let (Some(me), Some(t)) = (cx.sense(&OwnPose), cx.sense(&TrackTarget(target)))
+                else {
+                    return;
+                };
+                let a = libm::atan2(me.pos[1] - t.pos[1], me.pos[0] - t.pos[0]);
+                let at = |k: f64| {
+                    let b = a + k * std::f64::consts::FRAC_PI_4;
+                    [
+                        t.pos[0] + radius * libm::cos(b),
+                        t.pos[1] + radius * libm::sin(b),
+                        t.pos[2] + height,
+                    ]
+                };
+                vec![at(1.0), at(2.0)]
+            }
+            Leg::Loop {
+                target,
+                half_length,
+                axis,
+                height,
+                ..
+            } => {
+                let Some(t) = cx.sense(&TrackTarget(target)) else {
+                    return;
+                };
+                let side = if self.passes.is_multiple_of(2) {
+                    1.0
+                } else {
+                    -1.0
+                };
+                let end = |s: f64| {
+                    [
+                        t.pos[0] + s * half_length * libm::cos(axis),
+                        t.pos[1] + s * half_length * libm::sin(axis),
+                        t.pos[2] + height,
+                    ]
+                };
+                vec![end(side), end(-side)]
+            }
+            _ => return,
+        };
+        self.command(
+            FlightCommand::Waypoints {
+                points,
+                speed: self.speed,
+            },
+            cx,
+        );
+    }
+}
+
+impl<P> Controller for FlightMission<P>
+where
+    P: Actuator<Arena, Ev, Command = FlightCommand, Error = FlyError> + 'static,
+{
+    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+        match input {
+            Input::Event(Ev::Start) => self.begin(0, cx),
+            Input::Event(Ev::Waypoint(k)) => {
+                self.log.push((cx.now(), self.leg, *k));
+                match self.legs.get(self.leg) {
+                    Some(Leg::Waypoints(points)) if *k as usize + 1 >= points.len() => {
+                        self.begin(self.leg + 1, cx);
+                    }
+                    Some(Leg::Loiter { .. }) => {
+                        if self.ends_at.is_some_and(|t| cx.now() >= t) {
+                            self.begin(self.leg + 1, cx);
+                        } else {
+                            self.aim(cx);
+                        }
+                    }
+                    Some(Leg::Loop { passes, .. }) => {
+                        self.passes += 1;
+                        if self.passes >= *passes {
+                            self.begin(self.leg + 1, cx);
+                        } else {
+                            self.aim(cx);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            Input::Timer(key) if key == REAIM_KEY | self.leg as u64 => {
+                if self.ends_at.is_some_and(|t| cx.now() >= t) {
+                    self.begin(self.leg + 1, cx);
+                } else if matches!(self.legs.get(self.leg), Some(Leg::Loiter { .. })) {
+                    self.aim(cx);
+                    cx.set_timer(REAIM, key);
+                }
+            }
+            Input::Timer(key) if key == self.leg as u64 => {
+                if matches!(self.legs.get(self.leg), Some(Leg::Straight { .. })) {
+                    self.begin(self.leg + 1, cx);
+                }
+            }
+            _ => {}
         }
     }
 }

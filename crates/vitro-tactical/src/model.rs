@@ -34,8 +34,8 @@
 //! assert_eq!(visit.unwrap().log.last().map(|&(_, n)| n), Some(b));
 //! ```
 
-use crate::actuate;
 use crate::arena::{Arena, Clock, Ev};
+use crate::{actuate, autopilot};
 use std::any::Any;
 use vitro::entity::EntityId;
 use vitro::env::Effects;
@@ -95,7 +95,8 @@ pub fn run_env_event(env: &mut Arena, event: &Ev, fx: &mut Effects<'_, Ev>) {
         Ev::Hop(who) => actuate::on_hop(env, *who, fx),
         Ev::Tick(Clock::Kinematic) => actuate::tick_kinematic(env, fx),
         Ev::Tick(Clock::Physics) => actuate::tick_physics(env, fx),
-        Ev::Tick(Clock::Flight) | Ev::Maneuver(_) => {}
+        Ev::Tick(Clock::Flight) => autopilot::tick_flight(env, fx),
+        Ev::Maneuver(who) => autopilot::on_maneuver(env, *who, fx),
         Ev::Start | Ev::Arrived(_) | Ev::Waypoint(_) => {}
     }
 }
