@@ -8,6 +8,7 @@
 pub mod actuate;
 pub mod arena;
 pub mod autopilot;
+pub mod check;
 pub mod entity;
 pub mod geo;
 pub mod info;

@@ -103,11 +103,12 @@ impl Lattice {
             origin: [0.0; 3],
         }
     }
-    /// The helicopter lattice: 20 m cells, 10 m layers.
+    /// The helicopter lattice: 20 m cells, 5 m layers (so a commanded altitude is held
+    /// within 2.5 m).
     pub fn for_vtol(_: &VtolType) -> Self {
         Lattice {
             cell: 20.0,
-            layer: 10.0,
+            layer: 5.0,
             origin: [0.0; 3],
         }
     }

@@ -1,0 +1,435 @@
+//! The cross-level check: one controller run at every level of fidelity, its stated
+//! properties re-checked on each.
+//!
+//! A [`Scenario`] runs one controller for one entity at a given level and returns the
+//! recorded [`Run`] (trajectory, arrival, limits); a [`Property`] judges a run. A
+//! [`Registry`] holds both; [`Registry::run`] runs every scenario at each of its levels
+//! (its reference level, the discrete one, first: its arrival time is the *discrete
+//! estimate* the others are held to) and produces one [`Row`] per (entity, level, property)
+//! that applies, with each level's speed in simulated seconds per wall-clock second.
+//!
+//! [`Registry::standard`] checks, on the real town: each vehicle type driving across town
+//! at the discrete, interpolated and physical levels; each trooper type walking at the
+//! discrete and directed levels; the fixed-wing UAV and both helicopters flying the same
+//! route at their two levels. Its properties ([`property`]): the goal is reached; ground
+//! bodies never enter a forbidden zone; the arrival time is within a stated tolerance of the
+//! discrete estimate; the trajectory has no jump larger than the type's top speed × the
+//! time step + 5 cm; a helicopter holds its commanded altitude within ±3 m; a fixed-wing
+//! aircraft never flies below its minimum speed.
+//!
+//! Users add their own controllers (a [`Scenario`] that builds a simulation with them and
+//! records it with [`record`]) and their own [`Property`]s:
+//!
+//! ```no_run
+//! use vitro_tactical::check::{Property, Registry, Run, Setup, Verdict};
+//! use vitro_tactical::site::Site;
+//!
+//! /// No ground body ever climbs above 400 m.
+//! struct Below400;
+//! impl Property for Below400 {
+//!     fn name(&self) -> &str { "below 400 m" }
+//!     fn evaluate(&self, run: &Run, _: &Site) -> Option<Verdict> {
+//!         let top = run.samples.iter().map(|s| s.pos[2]).fold(f64::MIN, f64::max);
+//!         Some(Verdict { pass: top <= 400.0, value: top, limit: "<= 400 m".into() })
+//!     }
+//! }
+//! let setup = Setup::default_town().unwrap();
+//! let mut registry = Registry::standard(&setup).unwrap();
+//! registry.add_property(Box::new(Below400));
+//! let report = registry.run(&setup).unwrap();
+//! println!("{}", report.table());
+//! ```
+
+pub mod property;
+pub mod scenario;
+
+use crate::entity::Level;
+use crate::entity::route::Roads;
+use crate::map::{MapConfig, MapError, TownMap};
+use crate::model::Tactical;
+use crate::site::{Site, SiteConfig, SiteError};
+use crate::terrain::{Terrain, TerrainError};
+use crate::types::TypeBook;
+use serde::Serialize;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+use vitro::entity::EntityId;
+use vitro::sim::Simulation;
+use vitro::time::SimTime;
+
+/// Why a check could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckError {
+    /// The map could not be loaded.
+    #[error(transparent)]
+    Map(#[from] MapError),
+    /// The terrain could not be loaded.
+    #[error(transparent)]
+    Terrain(#[from] TerrainError),
+    /// The town does not fit the terrain.
+    #[error(transparent)]
+    Site(#[from] SiteError),
+    /// A scenario could not be set up.
+    #[error("scenario {scenario}: {message}")]
+    Scenario {
+        /// The scenario's entity name.
+        scenario: String,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// What kind of entity a run is of (properties choose by it).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+pub enum Family {
+    /// Car, truck, UGV.
+    Ground,
+    /// Trooper.
+    Troop,
+    /// Fixed-wing UAV.
+    Ctol,
+    /// Helicopter UAV.
+    Vtol,
+}
+
+/// One recorded pose.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize)]
+pub struct Sample {
+    /// Simulated time, seconds.
+    pub t: f64,
+    /// World position, metres.
+    pub pos: [f64; 3],
+    /// Speed, m/s.
+    pub speed: f64,
+}
+
+/// One scenario run at one level: what the properties judge.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Run {
+    /// The entity (type) name, e.g. `car`.
+    pub entity: String,
+    /// Its family.
+    pub family: Family,
+    /// The level it ran at.
+    pub level: Level,
+    /// Its trajectory: a sample after every event that moved time on.
+    pub samples: Vec<Sample>,
+    /// When it reached its goal (seconds), if it did.
+    pub arrival: Option<f64>,
+    /// The discrete estimate of the arrival (filled in by the registry from the reference
+    /// level's run).
+    pub reference: Option<f64>,
+    /// The type's top speed, m/s.
+    pub max_speed: f64,
+    /// The type's minimum speed (fixed-wing aircraft), m/s.
+    pub min_speed: Option<f64>,
+    /// The commanded altitude (aircraft on a level route), world metres.
+    pub altitude: Option<f64>,
+    /// Simulated seconds run.
+    pub sim_seconds: f64,
+    /// Wall-clock seconds the run took.
+    pub wall_seconds: f64,
+    /// Events fired.
+    pub events: u64,
+}
+
+/// A property's judgement of one run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Verdict {
+    /// Whether it holds.
+    pub pass: bool,
+    /// The measured value (its meaning is the property's; NaN if there is none).
+    pub value: f64,
+    /// The bound it was held to, in words.
+    pub limit: String,
+}
+
+/// A property of a run.
+pub trait Property: Send + Sync {
+    /// Its name in the report.
+    fn name(&self) -> &str;
+    /// Its verdict on `run` on `site`, or `None` where it does not apply.
+    fn evaluate(&self, run: &Run, site: &Site) -> Option<Verdict>;
+}
+
+/// What scenarios run on: the site, its free street graphs, the type parameters, a seed.
+#[derive(Clone, Debug)]
+pub struct Setup {
+    /// Town on terrain.
+    pub site: Arc<Site>,
+    /// Free street graphs of the site.
+    pub roads: Arc<Roads>,
+    /// Type parameters.
+    pub types: Arc<TypeBook>,
+    /// Master seed of every run.
+    pub seed: u64,
+}
+
+/// The map the default check runs on (in the repository's `data/`).
+pub const DEFAULT_MAP: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/maps/kotka.osm.pbf");
+/// The terrain the default check runs on (in the repository's `data/`).
+pub const DEFAULT_TERRAIN: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../data/terrain/valley_64x64_90m.asc"
+);
+
+impl Setup {
+    /// A setup on `site` with the built-in types and seed 1.
+    pub fn new(site: Arc<Site>) -> Self {
+        let roads = Arc::new(Roads::new(&site));
+        Setup {
+            site,
+            roads,
+            types: Arc::new(TypeBook::builtin().clone()),
+            seed: 1,
+        }
+    }
+
+    /// The town of `map` (.osm.pbf) centred on `terrain` (ESRI ASCII grid or GeoTIFF).
+    pub fn from_files(map: &Path, terrain: &Path) -> Result<Self, CheckError> {
+        let town = TownMap::load(map, &MapConfig::default())?;
+        let ground = Terrain::load(terrain)?;
+        let site = Site::new(town, ground, &SiteConfig::default())?;
+        Ok(Self::new(Arc::new(site)))
+    }
+
+    /// The real town on the real terrain: [`DEFAULT_MAP`] on [`DEFAULT_TERRAIN`].
+    pub fn default_town() -> Result<Self, CheckError> {
+        Self::from_files(Path::new(DEFAULT_MAP), Path::new(DEFAULT_TERRAIN))
+    }
+
+    /// A fresh arena for one run.
+    pub fn arena(&self) -> crate::arena::Arena {
+        crate::arena::Arena::with(self.site.clone(), self.roads.clone(), self.types.clone())
+    }
+}
+
+/// A controller run for one entity at given levels.
+pub trait Scenario: Send + Sync {
+    /// The entity (type) name in the report.
+    fn entity(&self) -> String;
+    /// The levels it runs at; the first is the reference (discrete) level.
+    fn levels(&self) -> Vec<Level>;
+    /// Runs at `level`.
+    fn run(&self, setup: &Setup, level: Level) -> Result<Run, CheckError>;
+}
+
+/// One line of the report.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Row {
+    /// Entity (type) name.
+    pub entity: String,
+    /// Level.
+    pub level: Level,
+    /// Property name.
+    pub property: String,
+    /// Whether it holds.
+    pub pass: bool,
+    /// The measured value.
+    pub value: f64,
+    /// The bound, in words.
+    pub limit: String,
+}
+
+/// How fast one level ran: simulated seconds per wall-clock second over its runs.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LevelSpeed {
+    /// The family.
+    pub family: Family,
+    /// The level.
+    pub level: Level,
+    /// Runs at this level.
+    pub runs: usize,
+    /// Simulated seconds, summed.
+    pub sim_seconds: f64,
+    /// Wall-clock seconds, summed.
+    pub wall_seconds: f64,
+    /// Simulated seconds per wall-clock second.
+    pub speed: f64,
+}
+
+/// The outcome of a check.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CheckReport {
+    /// One row per (entity, level, applicable property).
+    pub rows: Vec<Row>,
+    /// Each level's speed.
+    pub speeds: Vec<LevelSpeed>,
+    /// True if every row passes.
+    pub pass: bool,
+}
+
+impl CheckReport {
+    /// The report as a plain-text table.
+    pub fn table(&self) -> String {
+        let mut out = format!(
+            "{:<14} {:<13} {:<22} {:<5} {:>12}  {}\n",
+            "entity", "level", "property", "pass", "value", "limit"
+        );
+        for r in &self.rows {
+            out += &format!(
+                "{:<14} {:<13} {:<22} {:<5} {:>12.4}  {}\n",
+                r.entity,
+                r.level.name(),
+                r.property,
+                if r.pass { "yes" } else { "NO" },
+                r.value,
+                r.limit
+            );
+        }
+        out += &format!(
+            "\n{:<8} {:<13} {:>4} {:>10} {:>9} {:>14}\n",
+            "family", "level", "runs", "sim s", "wall s", "sim s / wall s"
+        );
+        for s in &self.speeds {
+            out += &format!(
+                "{:<8} {:<13} {:>4} {:>10.1} {:>9.3} {:>14.0}\n",
+                format!("{:?}", s.family).to_lowercase(),
+                s.level.name(),
+                s.runs,
+                s.sim_seconds,
+                s.wall_seconds,
+                s.speed
+            );
+        }
+        out += &format!(
+            "\n{}\n",
+            if self.pass {
+                "all properties hold"
+            } else {
+                "SOME PROPERTIES FAIL"
+            }
+        );
+        out
+    }
+}
+
+/// Scenarios and properties.
+#[derive(Default)]
+pub struct Registry {
+    scenarios: Vec<Box<dyn Scenario>>,
+    properties: Vec<Box<dyn Property>>,
+}
+
+impl Registry {
+    /// An empty registry.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The standard scenarios on `setup`'s town and the standard properties.
+    pub fn standard(setup: &Setup) -> Result<Self, CheckError> {
+        let mut r = Registry::new();
+        for s in scenario::standard(setup)? {
+            r.add_scenario(s);
+        }
+        for p in property::standard() {
+            r.add_property(p);
+        }
+        Ok(r)
+    }
+
+    /// Adds a scenario.
+    pub fn add_scenario(&mut self, s: Box<dyn Scenario>) {
+        self.scenarios.push(s);
+    }
+    /// Adds a property.
+    pub fn add_property(&mut self, p: Box<dyn Property>) {
+        self.properties.push(p);
+    }
+
+    /// Runs every scenario at each of its levels (the reference level first) and judges
+    /// every run by every property that applies.
+    pub fn run(&self, setup: &Setup) -> Result<CheckReport, CheckError> {
+        let mut rows = Vec::new();
+        let mut runs: Vec<Run> = Vec::new();
+        for sc in &self.scenarios {
+            let mut reference = None;
+            for (i, level) in sc.levels().into_iter().enumerate() {
+                let mut run = sc.run(setup, level)?;
+                if i == 0 {
+                    reference = run.arrival;
+                } else {
+                    run.reference = reference;
+                }
+                for p in &self.properties {
+                    if let Some(v) = p.evaluate(&run, &setup.site) {
+                        rows.push(Row {
+                            entity: run.entity.clone(),
+                            level: run.level,
+                            property: p.name().to_owned(),
+                            pass: v.pass,
+                            value: v.value,
+                            limit: v.limit,
+                        });
+                    }
+                }
+                runs.push(run);
+            }
+        }
+        let mut speeds: Vec<LevelSpeed> = Vec::new();
+        for run in &runs {
+            match speeds
+                .iter_mut()
+                .find(|s| s.family == run.family && s.level == run.level)
+            {
+                Some(s) => {
+                    s.runs += 1;
+                    s.sim_seconds += run.sim_seconds;
+                    s.wall_seconds += run.wall_seconds;
+                }
+                None => speeds.push(LevelSpeed {
+                    family: run.family,
+                    level: run.level,
+                    runs: 1,
+                    sim_seconds: run.sim_seconds,
+                    wall_seconds: run.wall_seconds,
+                    speed: 0.0,
+                }),
+            }
+        }
+        for s in &mut speeds {
+            s.speed = s.sim_seconds / s.wall_seconds.max(1e-9);
+        }
+        let pass = rows.iter().all(|r| r.pass);
+        Ok(CheckReport { rows, speeds, pass })
+    }
+}
+
+/// Runs `sim` until `done` holds or `until`, recording `id`'s pose after every event that
+/// moved time on; returns the samples, the simulated and the wall-clock seconds.
+pub fn record(
+    sim: &mut Simulation<Tactical>,
+    id: EntityId,
+    until: SimTime,
+    mut done: impl FnMut(&Simulation<Tactical>) -> bool,
+) -> (Vec<Sample>, f64, f64) {
+    let mut samples: Vec<Sample> = Vec::new();
+    let t0 = sim.now().as_secs_f64();
+    let wall = Instant::now();
+    sim.run(until, |s| {
+        if let Some(p) = s.env().pose(id) {
+            let t = s.now().as_secs_f64();
+            let sample = Sample {
+                t,
+                pos: p.pos,
+                speed: p.speed,
+            };
+            match samples.last_mut() {
+                Some(last) if last.t == t => *last = sample,
+                _ => samples.push(sample),
+            }
+        }
+        done(s)
+    });
+    let wall = wall.elapsed().as_secs_f64();
+    (samples, sim.now().as_secs_f64() - t0, wall)
+}
+
+/// The check the command line runs: the standard registry on the real town on the real
+/// terrain ([`DEFAULT_MAP`], [`DEFAULT_TERRAIN`]).
+pub fn check_levels() -> Result<CheckReport, CheckError> {
+    let setup = Setup::default_town()?;
+    Registry::standard(&setup)?.run(&setup)
+}
