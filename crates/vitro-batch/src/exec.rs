@@ -163,11 +163,11 @@ pub fn run_batch(
             }
         }
     }
-    let specs: Vec<RunSpec> = manifest
+    let pending: Vec<u64> = manifest
         .runs
         .iter()
-        .filter(|e| !done.contains(&e.run))
-        .filter_map(|e| exp.design.run(e.run))
+        .map(|e| e.run)
+        .filter(|k| !done.contains(k))
         .collect();
     let planned = manifest.runs.len() as u64;
     let skipped = done.len() as u64;
@@ -188,11 +188,15 @@ pub fn run_batch(
     let records = Mutex::new(reading.records);
     let counter = AtomicU64::new(skipped);
     pool.install(|| {
-        specs
+        pending
             .par_iter()
             .with_max_len(1)
-            .try_for_each(|spec| -> Result<(), JournalError> {
-                let rec = execute(exp, runner, spec);
+            .try_for_each(|&k| -> Result<(), JournalError> {
+                // Every planned run exists in the design.
+                let Some(spec) = exp.design.run(k) else {
+                    return Ok(());
+                };
+                let rec = execute(exp, runner, &spec);
                 journal
                     .lock()
                     .unwrap_or_else(PoisonError::into_inner)
@@ -218,14 +222,14 @@ pub fn run_batch(
     manifest.set_statuses(&records);
     if let Some(s) = manifest.sessions.last_mut() {
         s.finished = Some(manifest::now());
-        s.runs_done = specs.len() as u64;
+        s.runs_done = pending.len() as u64;
     }
     manifest.save(dir)?;
     let tables = table::write_tables(dir, &manifest, &records)?;
     Ok(BatchReport {
         planned,
         skipped,
-        ran: specs.len() as u64,
+        ran: pending.len() as u64,
         torn_dropped: reading.torn,
         failed: failures(&records),
         wall_s: started.elapsed().as_secs_f64(),

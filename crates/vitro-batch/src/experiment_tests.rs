@@ -198,25 +198,6 @@ fn other_checks() {
 }
 
 #[test]
-fn float_ranges_have_clean_levels() {
-    let r = RangeSpec {
-        start: Number::Float(0.0),
-        stop: Number::Float(1.0),
-        step: Number::Float(0.1),
-    };
-    let levels = range_levels(&r).unwrap();
-    assert_eq!(levels.len(), 11);
-    assert_eq!(levels[3], Value::Float(0.3));
-    assert_eq!(levels[10], Value::Float(1.0));
-    let r = RangeSpec {
-        start: Number::Float(0.05),
-        stop: Number::Float(0.2),
-        step: Number::Float(0.05),
-    };
-    assert_eq!(range_levels(&r).unwrap().len(), 4);
-}
-
-#[test]
 fn schema_is_current_and_describes_the_file() {
     let schema = experiment_schema();
     let v: serde_json::Value = serde_json::from_str(&schema).unwrap();

@@ -35,6 +35,7 @@ pub mod diag;
 pub mod exec;
 pub mod experiment;
 pub mod journal;
+mod levels;
 pub mod manifest;
 pub mod merge;
 #[cfg(feature = "parquet")]

@@ -157,6 +157,18 @@ fn draw_xy<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &XyChart) -> Re
     }
     let (x0, x1) = padded(x0, x1);
     let (y0, y1) = padded(y0, y1);
+    let whole_x = c
+        .lines
+        .iter()
+        .flat_map(|l| l.points.iter())
+        .all(|(x, _)| x.fract() == 0.0);
+    let x_tick = |v: &f64| {
+        if whole_x && v.fract() != 0.0 {
+            String::new()
+        } else {
+            tick(*v)
+        }
+    };
     let mut chart = ChartBuilder::on(&body)
         .margin(20)
         .margin_top(4)
@@ -166,6 +178,8 @@ fn draw_xy<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &XyChart) -> Re
         .map_err(s)?;
     chart
         .configure_mesh()
+        .x_label_formatter(&x_tick)
+        .y_label_formatter(&|v| tick(*v))
         .x_desc(c.x_desc.as_str())
         .y_desc(c.y_desc.as_str())
         .label_style((FAMILY, 14))
@@ -213,9 +227,11 @@ fn draw_xy<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &XyChart) -> Re
         }
     }
     if labelled {
+        let (xs, ys) = (x0..x1, y0..y1);
+        let corner = legend_corner(c, &xs, &ys);
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(corner)
             .label_font((FAMILY, 14))
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(190, 190, 190))
@@ -275,6 +291,7 @@ fn draw_category<DB: DrawingBackend>(
         .disable_x_mesh()
         .x_labels(n as usize + 2)
         .x_label_formatter(&format)
+        .y_label_formatter(&|v| tick(*v))
         .x_desc(c.x_desc.as_str())
         .y_desc(c.y_desc.as_str())
         .label_style((FAMILY, 14))
@@ -341,6 +358,7 @@ fn draw_hist<DB: DrawingBackend>(
     chart
         .configure_mesh()
         .disable_x_mesh()
+        .x_label_formatter(&|v| tick(*v))
         .x_desc(c.x_desc.as_str())
         .y_desc("runs")
         .y_label_formatter(&|v| format!("{v:.0}"))
@@ -398,4 +416,65 @@ fn short(x: f64) -> String {
     } else {
         format!("{x:.4}")
     }
+}
+
+/// An axis tick: at most six decimals, trailing zeros dropped (`300`, `0.3`, `2.5`).
+fn tick(v: f64) -> String {
+    let s = format!("{v:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
+/// The corner of the plot where the legend of `c` hides the fewest points of its lines
+/// (means, interval ends and the segments between them).
+fn legend_corner(
+    c: &XyChart,
+    xs: &std::ops::Range<f64>,
+    ys: &std::ops::Range<f64>,
+) -> SeriesLabelPosition {
+    let entries = c.lines.iter().filter(|l| l.label.is_some()).count() as f64;
+    let (w, h) = (0.3, (0.06 + 0.045 * entries).min(0.9));
+    let unit = |x: f64, y: f64| {
+        (
+            (x - xs.start) / (xs.end - xs.start),
+            (y - ys.start) / (ys.end - ys.start),
+        )
+    };
+    let mut pts = Vec::new();
+    for line in &c.lines {
+        for (x, m) in &line.points {
+            pts.extend([unit(*x, m.mean), unit(*x, m.lo), unit(*x, m.hi)]);
+        }
+        if line.connect {
+            for pair in line.points.windows(2) {
+                let ((xa, a), (xb, b)) = (pair[0], pair[1]);
+                for i in 1..10 {
+                    let t = f64::from(i) / 10.0;
+                    pts.push(unit(xa + t * (xb - xa), a.mean + t * (b.mean - a.mean)));
+                }
+            }
+        }
+    }
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let hidden = |right: bool, top: bool| {
+        pts.iter()
+            .filter(|(x, y)| {
+                (if right { *x > 1.0 - w } else { *x < w })
+                    && (if top { *y > 1.0 - h } else { *y < h })
+            })
+            .count()
+    };
+    let mut best = (SeriesLabelPosition::UpperRight, usize::MAX);
+    for (pos, right, top) in corners {
+        let n = hidden(right, top);
+        if n < best.1 {
+            best = (pos, n);
+        }
+    }
+    best.0
 }

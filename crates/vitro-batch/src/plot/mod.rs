@@ -194,10 +194,12 @@ fn charts(
                 title: format!("Success rate by {}", p.path),
                 x_desc: p.path.clone(),
                 y_desc: "success rate".into(),
-                note: format!(
-                    "share of {} with 95% Wilson interval",
-                    success_name(m, records, opts).unwrap_or("runs that ended without error")
-                ),
+                note: match success_name(m, records, opts) {
+                    Some(name) => {
+                        format!("share of runs whose `{name}` is true, 95% Wilson interval")
+                    }
+                    None => "share of runs that ended without error, 95% Wilson interval".into(),
+                },
                 categories: p.levels.iter().map(Value::to_string).collect(),
                 items,
                 bars: true,
