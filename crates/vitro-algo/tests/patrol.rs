@@ -235,8 +235,8 @@ fn exact_solutions_match_a_brute_force_grid() {
         // The reported value is the policy's true value (independent evaluation).
         let own = brute_loss(
             &inst,
-            solution.policy.support(),
-            &policy_rows(&solution.policy),
+            solution.policies[0].support(),
+            &policy_rows(&solution.policies[0]),
         );
         assert!(
             (own - solution.value).abs() < 1e-9,
@@ -298,7 +298,7 @@ fn a_single_static_target_is_always_caught() {
             assert!(solution.exact);
             assert_eq!(solution.value, 0.0);
             assert_eq!(solution.capture_probability, 1.0);
-            assert!(solution.policy.support().contains(&2));
+            assert!(solution.policies[0].support().contains(&2));
         }
     }
 }
@@ -325,7 +325,7 @@ fn monte_carlo_agrees_with_the_computed_values() {
                 .collect(),
         )
         .unwrap();
-        for policy in [&solution.policy, &walk] {
+        for policy in [&solution.policies[0], &walk] {
             let exact = policy.attacks(&inst).unwrap();
             let report = monte_carlo(&inst, policy, &options).unwrap();
             assert_eq!(report.attacks.len(), exact.len());
@@ -378,7 +378,7 @@ fn toml_instances_solve_like_built_ones() {
     let a = patrol::solve(&parsed).unwrap();
     let b = patrol::solve(&built).unwrap();
     assert_eq!(a.value, b.value);
-    assert_eq!(a.policy, b.policy);
+    assert_eq!(a.policies, b.policies);
 }
 
 #[test]
@@ -405,24 +405,6 @@ fn instance_files_can_point_at_edge_lists() {
         other => panic!("expected an error at 2:8, got {other:?}"),
     }
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-#[test]
-fn unsupported_features_are_refused_not_faked() {
-    let mut convoy = instance(graph::path(4).unwrap(), &[(0, 1.0, 2)]);
-    convoy.targets[0].position = TargetPosition::Schedule(vec![0, 1, 2, 3, 2, 1]);
-    assert!(matches!(
-        patrol::solve(&convoy),
-        Err(PatrolError::Unsupported(_))
-    ));
-    let mut two = instance(graph::path(4).unwrap(), &[(0, 1.0, 2)]);
-    two.patrollers.push(Patroller {
-        name: "second".into(),
-    });
-    assert!(matches!(
-        patrol::solve(&two),
-        Err(PatrolError::Unsupported(_))
-    ));
 }
 
 #[test]
@@ -456,7 +438,7 @@ fn a_budget_cut_search_reports_an_honest_bound() {
     assert!(!solution.exact);
     assert!(solution.lower_bound < solution.value - options.tolerance);
     // The value is still the returned policy's true value, and beats the uniform random walk.
-    assert_eq!(solution.value, solution.policy.value(&inst).unwrap());
+    assert_eq!(solution.value, solution.policies[0].value(&inst).unwrap());
     let walk = Policy::new(
         &inst.graph,
         (0..9)

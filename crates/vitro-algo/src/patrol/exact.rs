@@ -80,7 +80,7 @@ struct Evaluated {
 
 /// Tightens a box against the row sums; `None` if no stochastic row fits.
 fn tighten(chain: &Chain, lo: &mut [f64], hi: &mut [f64]) -> Option<()> {
-    for i in 0..chain.len() {
+    for i in 0..chain.rows() {
         let row = chain.row(i);
         let sum_lo: f64 = row.clone().map(|e| lo[e]).sum();
         let sum_hi: f64 = row.clone().map(|e| hi[e]).sum();
@@ -100,7 +100,7 @@ fn tighten(chain: &Chain, lo: &mut [f64], hi: &mut [f64]) -> Option<()> {
 /// A stochastic point in the box: `lo` plus the missing mass spread in proportion to width.
 fn feasible_point(chain: &Chain, lo: &[f64], hi: &[f64]) -> Vec<f64> {
     let mut x = lo.to_vec();
-    for i in 0..chain.len() {
+    for i in 0..chain.rows() {
         let row = chain.row(i);
         let sum_lo: f64 = row.clone().map(|e| lo[e]).sum();
         let slack: f64 = row.clone().map(|e| hi[e] - lo[e]).sum();

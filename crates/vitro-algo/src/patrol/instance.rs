@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use toml::Spanned;
 
 use super::PatrolError;
+use super::chain::Track;
 use crate::graph::{Graph, NodeId};
 
 /// A patrolling security game: a graph, the targets an attacker may strike, the patrollers.
@@ -65,7 +66,7 @@ pub enum TargetPosition {
     /// Always at this vertex.
     Static(NodeId),
     /// A moving target (a convoy): at step `i` it is at `schedule[i % schedule.len()]`, and
-    /// consecutive entries are equal or adjacent. Loaded and validated, but not solved yet.
+    /// consecutive entries (cyclically) are equal or adjacent; never empty.
     Schedule(Vec<NodeId>),
 }
 
@@ -140,18 +141,62 @@ impl Instance {
         Ok(())
     }
 
-    /// `(vertex, deadline, value)` of every target, or an error if one moves.
-    pub(crate) fn static_targets(&self) -> Result<Vec<(NodeId, usize, f64)>, PatrolError> {
-        self.targets
+    /// The schedule period: the least common multiple of the schedules' lengths (1 when every
+    /// target is static).
+    ///
+    /// # Errors
+    /// [`PatrolError::Unsupported`] if it exceeds [`MAX_PERIOD`].
+    pub fn period(&self) -> Result<usize, PatrolError> {
+        let mut period = 1usize;
+        for target in &self.targets {
+            if let TargetPosition::Schedule(nodes) = &target.position {
+                period = lcm(period, nodes.len());
+                if period > MAX_PERIOD {
+                    return Err(PatrolError::Unsupported(format!(
+                        "the schedules' common period exceeds {MAX_PERIOD} steps"
+                    )));
+                }
+            }
+        }
+        Ok(period)
+    }
+
+    /// The period and `(vertex at each phase, deadline, value)` of every target.
+    pub(crate) fn timeline(&self) -> Result<(usize, Vec<Track>), PatrolError> {
+        self.validate()?;
+        let period = self.period()?;
+        let targets = self
+            .targets
             .iter()
-            .map(|t| match t.position {
-                TargetPosition::Static(v) => Ok((v, t.deadline as usize, t.value)),
-                TargetPosition::Schedule(_) => Err(PatrolError::Unsupported(format!(
-                    "target {} moves on a schedule; moving targets are not solved yet",
-                    t.name
-                ))),
+            .map(|t| {
+                let nodes = (0..period)
+                    .map(|phase| t.position.at(phase).unwrap_or(0))
+                    .collect();
+                (nodes, t.deadline as usize, t.value)
             })
-            .collect()
+            .collect();
+        Ok((period, targets))
+    }
+}
+
+/// The longest common schedule period handled (the product state space grows with it).
+pub const MAX_PERIOD: usize = 1024;
+
+fn lcm(a: usize, b: usize) -> usize {
+    let (mut x, mut y) = (a, b);
+    while y != 0 {
+        (x, y) = (y, x % y);
+    }
+    a / x.max(1) * b
+}
+
+impl TargetPosition {
+    /// The target's vertex at step `step` (schedules repeat); `None` for an empty schedule.
+    pub fn at(&self, step: usize) -> Option<NodeId> {
+        match self {
+            TargetPosition::Static(v) => Some(*v),
+            TargetPosition::Schedule(nodes) => nodes.get(step % nodes.len().max(1)).copied(),
+        }
     }
 }
 
@@ -443,10 +488,8 @@ deadline = 3
             TargetPosition::Schedule(vec![2, 1, 1, 2])
         );
         assert_eq!(instance.patrollers[0].name, "patroller0");
-        assert!(matches!(
-            instance.static_targets(),
-            Err(PatrolError::Unsupported(_))
-        ));
+        assert_eq!(instance.period().unwrap(), 4);
+        assert_eq!(instance.targets[1].position.at(5), Some(1));
     }
 
     fn where_(text: &str) -> (usize, usize) {

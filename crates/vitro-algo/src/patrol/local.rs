@@ -8,6 +8,9 @@
 //! program; the step is accepted if the true worst-case loss drops, and `Δ` grows or shrinks
 //! with the agreement between predicted and actual decrease. This converges to a local
 //! optimum, not necessarily the global one: [`super::exact`] certifies global optimality.
+//!
+//! The same method optimises a team of independent patrollers ([`improve_team`]): the escape
+//! probability from a joint start is the product of the individual ones, linearised too.
 
 use good_lp::{Expression, ProblemVariables, Solution, SolverModel, microlp, variable};
 
@@ -30,7 +33,7 @@ pub struct LpStats {
 /// The uniform policy on a chain: every row spread evenly over its entries.
 pub(crate) fn uniform(chain: &Chain) -> Vec<f64> {
     let mut alpha = vec![0.0; chain.entries()];
-    for i in 0..chain.len() {
+    for i in 0..chain.rows() {
         let row = chain.row(i);
         let p = 1.0 / row.len() as f64;
         for e in row {
@@ -40,30 +43,127 @@ pub(crate) fn uniform(chain: &Chain) -> Vec<f64> {
     alpha
 }
 
+/// A random policy on a chain: every row drawn from a flat Dirichlet distribution (normalised
+/// exponentials), a restart point for the local search.
+pub(crate) fn random(chain: &Chain, rng: &mut impl rand::Rng) -> Vec<f64> {
+    let mut alpha = vec![0.0; chain.entries()];
+    for i in 0..chain.rows() {
+        let row = chain.row(i);
+        let mut sum = 0.0;
+        for e in row.clone() {
+            let u: f64 = rng.random();
+            alpha[e] = -(1.0 - u).ln();
+            sum += alpha[e];
+        }
+        for e in row {
+            alpha[e] /= sum;
+        }
+    }
+    alpha
+}
+
+/// Escape probabilities of a team: `escape[i][t * period + φ]` is the largest chance, over
+/// patroller `i`'s start vertices, that `i` misses an attack on target `t` started at phase
+/// `φ`; `capture[i]` holds the chains' capture probabilities.
+fn escapes(chains: &[&Chain], capture: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    chains
+        .iter()
+        .zip(capture)
+        .map(|(chain, cap)| {
+            let (n, period) = (chain.len(), chain.period);
+            (0..chain.targets.len() * period)
+                .map(|k| {
+                    cap[k * n..(k + 1) * n]
+                        .iter()
+                        .map(|&p| 1.0 - p.min(1.0))
+                        .fold(0.0, f64::max)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The attacker's best expected gain against a team of independent patrollers, one chain each
+/// (same targets and period): `max over (t, φ) of value_t · Π_i escape_i(t, φ)`. Patrollers
+/// move independently, so the escape probability from a joint start is the product of the
+/// individual ones, and the worst joint start takes each patroller's worst start. For a single
+/// chain this is [`Chain::loss`].
+pub(crate) fn team_loss(chains: &[&Chain], alphas: &[Vec<f64>]) -> f64 {
+    let capture: Vec<Vec<f64>> = chains
+        .iter()
+        .zip(alphas)
+        .map(|(chain, alpha)| {
+            let mut out = Vec::new();
+            chain.capture(alpha, &mut out);
+            out
+        })
+        .collect();
+    loss_from_escapes(chains, &escapes(chains, &capture))
+}
+
+fn loss_from_escapes(chains: &[&Chain], escape: &[Vec<f64>]) -> f64 {
+    let Some(first) = chains.first() else {
+        return 0.0;
+    };
+    let period = first.period;
+    let mut worst: f64 = 0.0;
+    for (t, target) in first.targets.iter().enumerate() {
+        for phase in 0..period {
+            let k = t * period + phase;
+            let product: f64 = escape.iter().map(|e| e[k]).product();
+            worst = worst.max(target.value * product);
+        }
+    }
+    worst
+}
+
 /// Improves `alpha` on `chain` by successive linear programming; returns the final entries and
 /// their exact loss (never worse than the start's).
 pub(crate) fn improve(
     chain: &Chain,
-    mut alpha: Vec<f64>,
+    alpha: Vec<f64>,
     max_iterations: usize,
     stats: &mut LpStats,
 ) -> (Vec<f64>, f64) {
-    let mut scratch = Vec::new();
-    let mut loss = chain.loss(&alpha, &mut scratch);
+    let (mut alphas, loss) = improve_team(&[chain], vec![alpha], max_iterations, stats);
+    (alphas.pop().unwrap_or_default(), loss)
+}
+
+/// Improves a team's policies (one chain and entry vector per patroller) by successive linear
+/// programming on [`team_loss`]; returns the final entries and their exact loss (never worse
+/// than the start's).
+pub(crate) fn improve_team(
+    chains: &[&Chain],
+    mut alphas: Vec<Vec<f64>>,
+    max_iterations: usize,
+    stats: &mut LpStats,
+) -> (Vec<Vec<f64>>, f64) {
+    let mut loss = team_loss(chains, &alphas);
     let mut radius = 0.25;
-    let mut gradients: Vec<Vec<f64>> = vec![Vec::new(); chain.targets.len()];
+    let mut gradients: Vec<Vec<Vec<f64>>> = chains
+        .iter()
+        .map(|c| vec![Vec::new(); c.targets.len()])
+        .collect();
     for _ in 0..max_iterations {
         if loss <= 0.0 || radius < 1e-9 {
             break;
         }
-        chain.capture(&alpha, &mut scratch);
-        for (t, grad) in gradients.iter_mut().enumerate() {
-            chain.gradients(&alpha, t, grad);
+        let mut capture = Vec::with_capacity(chains.len());
+        for ((chain, alpha), grads) in chains.iter().zip(&alphas).zip(&mut gradients) {
+            let mut cap = Vec::new();
+            chain.capture(alpha, &mut cap);
+            capture.push(cap);
+            for (t, grad) in grads.iter_mut().enumerate() {
+                chain.gradients(alpha, t, grad);
+            }
         }
+        let point = Linearisation {
+            alphas: &alphas,
+            capture: &capture,
+            gradients: &gradients,
+        };
         // A numerical failure of the LP solver ends the local search with what it has.
-        let Ok((candidate, predicted)) =
-            linearised_step(chain, &alpha, &scratch, &gradients, radius, stats)
-        else {
+        let Ok((candidate, predicted)) = linearised_step(chains, &point, radius, stats) else {
             stats.failures += 1;
             break;
         };
@@ -71,10 +171,10 @@ pub(crate) fn improve(
         if predicted_decrease <= 1e-12 {
             break;
         }
-        let candidate_loss = chain.loss(&candidate, &mut scratch);
+        let candidate_loss = team_loss(chains, &candidate);
         let actual_decrease = loss - candidate_loss;
         if actual_decrease > 0.0 {
-            alpha = candidate;
+            alphas = candidate;
             loss = candidate_loss;
             if actual_decrease > 0.75 * predicted_decrease {
                 radius = (radius * 2.0).min(1.0);
@@ -85,75 +185,141 @@ pub(crate) fn improve(
             radius *= 0.25;
         }
     }
-    (alpha, loss)
+    (alphas, loss)
 }
 
-/// Solves the linearised program around `alpha` within the trust region; returns the new
-/// entries (rows renormalised) and the predicted worst-case loss.
+/// The current point of a local search: entries, capture probabilities and their gradients,
+/// per patroller.
+struct Linearisation<'a> {
+    alphas: &'a [Vec<f64>],
+    capture: &'a [Vec<f64>],
+    gradients: &'a [Vec<Vec<f64>>],
+}
+
+/// Above this many attack rows the linearised program keeps only the starts whose escape
+/// probability is within [`ACTIVE_MARGIN`] of the worst (an active set); steps are still
+/// accepted only if the exact loss drops.
+const ALL_ROWS_LIMIT: usize = 3000;
+const ACTIVE_MARGIN: f64 = 0.2;
+
+/// Solves the linearised program around the current point within the trust region; returns
+/// the new entries (rows renormalised) and the predicted worst-case loss.
+///
+/// Variables: the entries `x_i`, one escape level `y_{i,t,φ}` per patroller, target and phase,
+/// and the loss `z`. Constraints: rows stochastic; `y_{i,t,φ} ≥ 1 − linearised P_i(t, h, φ)`
+/// for every start `h`; `z ≥ value_t · (Π_i y_{i,t,φ})` with the product linearised at the
+/// current escape levels (exact for a single patroller).
 fn linearised_step(
-    chain: &Chain,
-    alpha: &[f64],
-    capture: &[f64],
-    gradients: &[Vec<f64>],
+    chains: &[&Chain],
+    point: &Linearisation,
     radius: f64,
     stats: &mut LpStats,
-) -> Result<(Vec<f64>, f64), PatrolError> {
-    let n = chain.len();
-    let m = chain.entries();
+) -> Result<(Vec<Vec<f64>>, f64), PatrolError> {
+    let escape = escapes(chains, point.capture);
     let mut vars = ProblemVariables::new();
-    let x: Vec<_> = alpha
+    let x: Vec<Vec<_>> = point
+        .alphas
         .iter()
-        .map(|&a| {
-            vars.add(
-                variable()
-                    .min((a - radius).max(0.0))
-                    .max((a + radius).min(1.0)),
-            )
+        .map(|alpha| {
+            alpha
+                .iter()
+                .map(|&a| {
+                    vars.add(
+                        variable()
+                            .min((a - radius).max(0.0))
+                            .max((a + radius).min(1.0)),
+                    )
+                })
+                .collect()
         })
         .collect();
+    let y: Vec<Vec<_>> = escape
+        .iter()
+        .map(|e| e.iter().map(|_| vars.add(variable().min(0.0))).collect())
+        .collect();
     let z = vars.add(variable().min(0.0));
+    let variables: usize = x.iter().map(Vec::len).sum::<usize>() + escape.len() * escape[0].len();
     let mut model = vars.minimise(z).using(microlp);
     let mut constraints = 0;
-    for i in 0..n {
-        let mut row = Expression::with_capacity(chain.row(i).len());
-        for e in chain.row(i) {
-            row.add_mul(1.0, x[e]);
+    let total_rows: usize = chains.iter().map(|c| c.targets.len() * c.states()).sum();
+    let margin = if total_rows <= ALL_ROWS_LIMIT {
+        f64::INFINITY
+    } else {
+        ACTIVE_MARGIN
+    };
+    for (i, chain) in chains.iter().enumerate() {
+        let (n, states, m) = (chain.len(), chain.states(), chain.entries());
+        let alpha = &point.alphas[i];
+        for r in 0..chain.rows() {
+            let mut row = Expression::with_capacity(chain.row(r).len());
+            for e in chain.row(r) {
+                row.add_mul(1.0, x[i][e]);
+            }
+            model = model.with(row.eq(1.0));
+            constraints += 1;
         }
-        model = model.with(row.eq(1.0));
-        constraints += 1;
-    }
-    for (t, target) in chain.targets.iter().enumerate() {
-        for h in 0..n {
-            // z ≥ v (1 − P − g·(x − α))  ⇔  z + v g·x ≥ v (1 − P + g·α).
-            let grad = &gradients[t][h * m..(h + 1) * m];
-            let p = capture[t * n + h];
-            let mut lhs = Expression::from(z);
-            let mut rhs = 1.0 - p;
-            for e in 0..m {
-                if grad[e] != 0.0 {
-                    lhs.add_mul(target.value * grad[e], x[e]);
-                    rhs += grad[e] * alpha[e];
+        for t in 0..chain.targets.len() {
+            for start in 0..states {
+                // y ≥ 1 − P − g·(x − α)  ⇔  y + g·x ≥ 1 − P + g·α.
+                let k = t * chain.period + start / n;
+                let p = point.capture[i][t * states + start];
+                if 1.0 - p.min(1.0) < escape[i][k] - margin {
+                    continue;
                 }
+                let grad = &point.gradients[i][t][start * m..(start + 1) * m];
+                let mut lhs = Expression::from(y[i][k]);
+                let mut rhs = 1.0 - p;
+                for e in 0..m {
+                    if grad[e] != 0.0 {
+                        lhs.add_mul(grad[e], x[i][e]);
+                        rhs += grad[e] * alpha[e];
+                    }
+                }
+                model = model.with(lhs.geq(rhs));
+                constraints += 1;
+            }
+        }
+    }
+    let first = chains[0];
+    for (t, target) in first.targets.iter().enumerate() {
+        for phase in 0..first.period {
+            // z ≥ v (E⁰ + Σ_i c_i (y_i − y_i⁰)), c_i = Π_{k≠i} y_k⁰.
+            let k = t * first.period + phase;
+            let levels: Vec<f64> = escape.iter().map(|e| e[k]).collect();
+            let product: f64 = levels.iter().product();
+            let mut lhs = Expression::from(z);
+            let mut rhs = product;
+            for i in 0..chains.len() {
+                let others: f64 = (0..chains.len())
+                    .filter(|&j| j != i)
+                    .map(|j| levels[j])
+                    .product();
+                lhs.add_mul(-target.value * others, y[i][k]);
+                rhs -= others * levels[i];
             }
             model = model.with(lhs.geq(target.value * rhs));
             constraints += 1;
         }
     }
     stats.solves += 1;
-    stats.max_variables = stats.max_variables.max(m + 1);
+    stats.max_variables = stats.max_variables.max(variables + 1);
     stats.max_constraints = stats.max_constraints.max(constraints);
     let solution = model.solve().map_err(|e| PatrolError::Lp(e.to_string()))?;
-    let mut next: Vec<f64> = x
-        .iter()
-        .map(|&v| solution.value(v).clamp(0.0, 1.0))
-        .collect();
-    for i in 0..n {
-        let sum: f64 = chain.row(i).map(|e| next[e]).sum();
-        if sum > 0.0 {
-            for e in chain.row(i) {
-                next[e] /= sum;
+    let mut next = Vec::with_capacity(chains.len());
+    for (chain, xs) in chains.iter().zip(&x) {
+        let mut alpha: Vec<f64> = xs
+            .iter()
+            .map(|&v| solution.value(v).clamp(0.0, 1.0))
+            .collect();
+        for r in 0..chain.rows() {
+            let sum: f64 = chain.row(r).map(|e| alpha[e]).sum();
+            if sum > 0.0 {
+                for e in chain.row(r) {
+                    alpha[e] /= sum;
+                }
             }
         }
+        next.push(alpha);
     }
     Ok((next, solution.value(z)))
 }

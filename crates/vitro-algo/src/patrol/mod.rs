@@ -42,10 +42,32 @@
 //! `exact`. Optima are in general irrational: on a path of four vertices with targets of
 //! value 1 and 2 at the ends (deadline 3) the certified optimum is 0.928203… (≈ 4√3 − 6).
 //!
-//! Not modelled (yet): several patrollers and moving targets (convoys on schedules). The
-//! types carry them ([`TargetPosition::Schedule`], [`Instance::patrollers`]); [`solve`]
-//! answers [`PatrolError::Unsupported`] for them. Policies with memory (history-dependent
-//! patrols) can beat Markov policies; they are outside the optimised class.
+//! # Moving targets and time-dependent policies
+//!
+//! Targets may be convoys on cyclic schedules ([`TargetPosition::Schedule`]); the period `T`
+//! is the least common multiple of the schedules' lengths, and the attacker also sees the
+//! phase `time mod T`. The chain then runs on the product state `(vertex, phase)`: an attack
+//! started at `(h, φ)` on target `t` is caught if the patroller stands on `pos_t(φ + s)` at a
+//! step `s ∈ 1..=D`. A *stationary* policy shares one row per vertex across phases; a
+//! *time-dependent* one ([`SolveOptions::time_dependent`]) has a row per (vertex, phase).
+//! The attack starts are every support vertex at every phase (the patroller may be found
+//! anywhere on its support at any phase). Both capture probabilities stay polynomials with
+//! non-negative coefficients, so stages 1 and 2 apply unchanged and `exact` keeps its meaning
+//! over the class: Markov policies of that kind on a connected support, attackable at every
+//! (support vertex, phase). Phase-locked supports (a patroller that only ever is at some
+//! vertices at some phases, such as one riding with a convoy) are outside the class. Every
+//! stationary policy is a time-dependent one, so the time-dependent optimum is never worse.
+//!
+//! # Several patrollers
+//!
+//! Independent policies, one per patroller; the attacker sees all of them, so the escape
+//! probability of a joint start is the product of the patrollers' ones (module `team`).
+//! They are found by the same successive LP (product linearised too) with restarts over
+//! target-to-patroller assignments and random starting policies: a scalable anytime local
+//! method, never certified (`exact` is false unless every attack is surely caught).
+//!
+//! Policies with memory (history-dependent patrols) and coordinated teams (joint moves) can
+//! beat these; they are outside the optimised classes.
 //!
 //! ```
 //! use vitro_algo::patrol::{self, Instance};
@@ -78,15 +100,17 @@ mod montecarlo;
 mod policy;
 mod relax;
 mod supports;
+mod team;
 
 use std::path::PathBuf;
 
 use serde::Serialize;
 
-pub use instance::{Instance, Patroller, Target, TargetPosition};
+pub use instance::{Instance, MAX_PERIOD, Patroller, Target, TargetPosition};
 pub use local::LpStats;
 pub use montecarlo::{AttackEstimate, MonteCarloOptions, MonteCarloReport, monte_carlo};
-pub use policy::{Attack, Policy};
+pub use policy::{Attack, Policy, Rows};
+pub use team::{Threat, team_value, threats};
 
 use chain::Chain;
 
@@ -142,6 +166,14 @@ pub struct SolveOptions {
     pub local_searches: usize,
     /// LP iterations per local search. Default 100.
     pub local_iterations: usize,
+    /// Optimise time-dependent policies (one transition matrix per phase of the schedules'
+    /// period) instead of stationary ones. Default false.
+    pub time_dependent: bool,
+    /// Random restarts of each team local search (several patrollers), besides the uniform
+    /// start. Default 2.
+    pub restarts: usize,
+    /// Seed of the restarts' random starting policies. Default 0.
+    pub seed: u64,
 }
 
 impl Default for SolveOptions {
@@ -152,6 +184,9 @@ impl Default for SolveOptions {
             max_supports: 4096,
             local_searches: 16,
             local_iterations: 100,
+            time_dependent: false,
+            restarts: 2,
+            seed: 0,
         }
     }
 }
@@ -159,7 +194,7 @@ impl Default for SolveOptions {
 /// Work done by [`solve_with`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct SolveStats {
-    /// Connected supports enumerated.
+    /// Connected supports enumerated (candidate support assignments for a team).
     pub supports: usize,
     /// Supports the branch and bound had to search (the rest were ruled out at once).
     pub supports_searched: usize,
@@ -179,17 +214,19 @@ pub struct SolveStats {
 pub struct Solution {
     /// The policy's value: the attacker's best expected gain against it (lower is better).
     pub value: f64,
-    /// A certified lower bound on the value of every stationary Markov policy.
+    /// A certified lower bound on the value of every policy of the optimised class (0 when
+    /// nothing better is known, as for teams).
     pub lower_bound: f64,
     /// Whether `value − lower_bound ≤ tolerance` over all supports (the policy is optimal up
     /// to the tolerance).
     pub exact: bool,
     /// The smallest capture probability over all attack options.
     pub capture_probability: f64,
-    /// The policy (restricted to one recurrent class).
-    pub policy: Policy,
-    /// Every attack option's outcome against the policy.
-    pub attacks: Vec<Attack>,
+    /// One policy per patroller (each restricted to one recurrent class for a single
+    /// patroller).
+    pub policies: Vec<Policy>,
+    /// Per target and phase, the worst start for the attacker and the outcome there.
+    pub threats: Vec<Threat>,
     /// Work done.
     pub stats: SolveStats,
 }
@@ -202,20 +239,20 @@ pub fn solve(instance: &Instance) -> Result<Solution, PatrolError> {
     solve_with(instance, &SolveOptions::default())
 }
 
-/// Solves a patrolling game: the best stationary Markov policy for its single patroller,
-/// certified optimal when [`Solution::exact`] (see the [module docs](self)).
+/// Solves a patrolling game: the best stationary (or, with
+/// [`SolveOptions::time_dependent`], time-dependent) Markov policy for a single patroller,
+/// certified optimal when [`Solution::exact`]; for several patrollers, independent policies
+/// found by local search with restarts (never certified). See the [module docs](self).
 ///
 /// # Errors
-/// [`PatrolError::Unsupported`] for several patrollers or moving targets,
-/// [`PatrolError::Lp`] if the LP solver fails.
+/// [`PatrolError::Lp`] if the LP solver fails, [`PatrolError::Unsupported`] for a schedule
+/// period above [`MAX_PERIOD`], [`PatrolError::InvalidInstance`] for an inconsistent instance.
 pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solution, PatrolError> {
-    if instance.patrollers.len() != 1 {
-        return Err(PatrolError::Unsupported(format!(
-            "{} patrollers; only a single patroller is solved",
-            instance.patrollers.len()
-        )));
+    let (period, targets) = instance.timeline()?;
+    let timed = options.time_dependent && period > 1;
+    if instance.patrollers.len() > 1 {
+        return team::solve(instance, options, period, &targets, timed);
     }
-    let targets = instance.static_targets()?;
     let graph = &instance.graph;
     let (supports, complete) = match supports::connected(graph, options.max_supports) {
         Some(all) => (all, true),
@@ -223,7 +260,7 @@ pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solutio
     };
     let chains: Vec<Chain> = supports
         .iter()
-        .map(|s| Chain::new(graph, s, &targets))
+        .map(|s| Chain::new(graph, s, &targets, period, timed))
         .collect();
     let quick: Vec<f64> = chains.iter().map(supports::unreachable_loss).collect();
     let mut order: Vec<usize> = (0..chains.len()).collect();
@@ -284,9 +321,10 @@ pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solutio
         (&subset[outcome.support], &outcome.alpha)
     };
     let policy = best_class(instance, Policy::from_chain(chain, alpha))?;
-    let attacks = policy.attacks(instance)?;
-    let value = attacks.iter().map(|a| a.expected_loss).fold(0.0, f64::max);
-    let capture_probability = attacks
+    let policies = vec![policy];
+    let threats = team::threats(instance, &policies)?;
+    let value = threats.iter().map(|a| a.expected_loss).fold(0.0, f64::max);
+    let capture_probability = threats
         .iter()
         .map(|a| a.capture_probability)
         .fold(1.0, f64::min);
@@ -296,8 +334,8 @@ pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solutio
         lower_bound,
         exact: complete && value - lower_bound <= options.tolerance,
         capture_probability,
-        policy,
-        attacks,
+        policies,
+        threats,
         stats,
     })
 }

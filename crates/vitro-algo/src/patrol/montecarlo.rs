@@ -10,7 +10,7 @@ use crate::graph::NodeId;
 /// Settings for [`monte_carlo`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct MonteCarloOptions {
-    /// Simulated attacks per attack option (target × start vertex). Default 20 000.
+    /// Simulated attacks per attack option (target × phase × start vertex). Default 20 000.
     pub trials: u32,
     /// Master seed; attack option `i` draws from stream `i` of a ChaCha8 generator.
     pub seed: u64,
@@ -33,6 +33,8 @@ impl Default for MonteCarloOptions {
 pub struct AttackEstimate {
     /// Index of the target in [`Instance::targets`].
     pub target: usize,
+    /// The phase of the schedule period when the attack starts.
+    pub phase: usize,
     /// The patroller's vertex when the attack starts.
     pub from: NodeId,
     /// Attacks simulated.
@@ -48,7 +50,7 @@ pub struct AttackEstimate {
 /// The result of [`monte_carlo`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MonteCarloReport {
-    /// One estimate per attack option, by target then support vertex.
+    /// One estimate per attack option, by target, phase, then support vertex.
     pub attacks: Vec<AttackEstimate>,
     /// Estimated policy value: the largest `value_t · (1 − estimate)`.
     pub value: f64,
@@ -56,8 +58,9 @@ pub struct MonteCarloReport {
     pub value_interval: (f64, f64),
 }
 
-/// Plays `policy` against every attack option: for each target and each support vertex, starts
-/// the patroller there and counts how often it stands on the target within the deadline.
+/// Plays `policy` against every attack option: for each target, phase and support vertex,
+/// starts the patroller there and counts how often it stands on the target's (possibly moving)
+/// vertex within the deadline.
 ///
 /// The intervals are Hoeffding intervals with a Bonferroni split over the attack options, so
 /// with probability at least `confidence` every true capture probability (and hence the true
@@ -65,8 +68,8 @@ pub struct MonteCarloReport {
 /// probabilities 0 and 1.
 ///
 /// # Errors
-/// [`PatrolError::Unsupported`] for moving targets, [`PatrolError::InvalidPolicy`] if the
-/// policy does not fit the graph, [`PatrolError::InvalidInstance`] for bad options.
+/// [`PatrolError::InvalidPolicy`] if the policy does not fit the graph or period,
+/// [`PatrolError::InvalidInstance`] for bad options.
 pub fn monte_carlo(
     instance: &Instance,
     policy: &Policy,
@@ -77,43 +80,45 @@ pub fn monte_carlo(
             "Monte-Carlo needs at least one trial and a confidence in (0, 1)".into(),
         ));
     }
-    let targets = instance.static_targets()?;
-    // Validates the policy against the graph.
-    policy.attacks(instance)?;
-    let options_count = targets.len() * policy.support().len();
+    // Validates the policy against the graph and period.
+    let exact = policy.attacks(instance)?;
+    let options_count = exact.len();
     let delta = (1.0 - options.confidence) / options_count as f64;
     let half_width = ((2.0 / delta).ln() / (2.0 * f64::from(options.trials))).sqrt();
     let mut attacks = Vec::with_capacity(options_count);
     let (mut value, mut value_lo, mut value_hi) = (0.0f64, 0.0f64, 0.0f64);
-    for (t, &(node, deadline, worth)) in targets.iter().enumerate() {
-        for &from in policy.support() {
-            let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
-            rng.set_stream(attacks.len() as u64);
-            let mut captures = 0u32;
-            for _ in 0..options.trials {
-                let mut at = from;
-                for _ in 0..deadline {
-                    at = policy.next(at, rng.random::<f64>()).unwrap_or(at);
-                    if at == node {
-                        captures += 1;
-                        break;
-                    }
+    for option in &exact {
+        let (t, phase, from) = (option.target, option.phase, option.from);
+        let target = &instance.targets[t];
+        let worth = target.value;
+        let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
+        rng.set_stream(attacks.len() as u64);
+        let mut captures = 0u32;
+        for _ in 0..options.trials {
+            let mut at = from;
+            for s in 1..=target.deadline as usize {
+                let u = rng.random::<f64>();
+                at = policy.next_at(at, phase + s - 1, u).unwrap_or(at);
+                if Some(at) == target.position.at(phase + s) {
+                    captures += 1;
+                    break;
                 }
             }
-            let p = f64::from(captures) / f64::from(options.trials);
-            let interval = ((p - half_width).max(0.0), (p + half_width).min(1.0));
-            value = value.max(worth * (1.0 - p));
-            value_lo = value_lo.max(worth * (1.0 - interval.1));
-            value_hi = value_hi.max(worth * (1.0 - interval.0));
-            attacks.push(AttackEstimate {
-                target: t,
-                from,
-                trials: options.trials,
-                captures,
-                capture_probability: p,
-                interval,
-            });
         }
+        let p = f64::from(captures) / f64::from(options.trials);
+        let interval = ((p - half_width).max(0.0), (p + half_width).min(1.0));
+        value = value.max(worth * (1.0 - p));
+        value_lo = value_lo.max(worth * (1.0 - interval.1));
+        value_hi = value_hi.max(worth * (1.0 - interval.0));
+        attacks.push(AttackEstimate {
+            target: t,
+            phase,
+            from,
+            trials: options.trials,
+            captures,
+            capture_probability: p,
+            interval,
+        });
     }
     Ok(MonteCarloReport {
         attacks,

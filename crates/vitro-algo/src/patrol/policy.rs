@@ -6,15 +6,19 @@ use super::chain::Chain;
 use super::{Instance, PatrolError};
 use crate::graph::{Graph, NodeId};
 
+/// A policy's rows: `(vertex, [(next vertex, probability)])`.
+pub type Rows = Vec<(NodeId, Vec<(NodeId, f64)>)>;
+
 /// Tolerance on a row of probabilities summing to 1.
 const ROW_SUM_TOLERANCE: f64 = 1e-9;
 
-/// A stationary Markov policy for one patroller: on its *support* (the vertices it patrols),
-/// each vertex has a distribution over where to be next (itself or a neighbour, inside the
-/// support).
+/// A Markov policy for one patroller: on its *support* (the vertices it patrols), each vertex
+/// has a distribution over where to be next (itself or a neighbour, inside the support). A
+/// *stationary* policy has one distribution per vertex; a *time-dependent* one has one per
+/// vertex and phase of the targets' schedule period (`phases` of them, the period).
 ///
-/// The attacker may strike whenever the patroller stands on a support vertex, so every support
-/// vertex counts as an observable start of an attack.
+/// The attacker may strike whenever the patroller stands on a support vertex, at any phase, so
+/// every (support vertex, phase) counts as an observable start of an attack.
 ///
 /// ```
 /// use vitro_algo::graph;
@@ -33,8 +37,10 @@ const ROW_SUM_TOLERANCE: f64 = 1e-9;
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Policy {
     support: Vec<NodeId>,
-    /// Per support vertex (same order): `(next vertex, probability)`, ascending by vertex,
-    /// positive probabilities only.
+    /// Phases with their own rows (1 for a stationary policy).
+    phases: usize,
+    /// Per phase, then per support vertex (row `phase · support.len() + i`): `(next vertex,
+    /// probability)`, ascending by vertex, positive probabilities only.
     moves: Vec<Vec<(NodeId, f64)>>,
 }
 
@@ -43,6 +49,8 @@ pub struct Policy {
 pub struct Attack {
     /// Index of the target in [`Instance::targets`].
     pub target: usize,
+    /// The phase of the schedule period when the attack starts (0 for static targets).
+    pub phase: usize,
     /// The patroller's vertex when the attack starts.
     pub from: NodeId,
     /// Probability that the patroller stands on the target during the attack.
@@ -104,40 +112,77 @@ impl Policy {
                     .collect(),
             );
         }
-        Ok(Policy { support, moves })
+        Ok(Policy {
+            support,
+            phases: 1,
+            moves,
+        })
+    }
+
+    /// Builds a time-dependent policy from one set of rows per phase (as for [`Policy::new`]);
+    /// every phase must list the same support.
+    ///
+    /// # Errors
+    /// [`PatrolError::InvalidPolicy`] naming the offending phase or row.
+    pub fn time_dependent(graph: &Graph, phases: Vec<Rows>) -> Result<Policy, PatrolError> {
+        let count = phases.len();
+        let mut support: Option<Vec<NodeId>> = None;
+        let mut moves = Vec::new();
+        for (phase, rows) in phases.into_iter().enumerate() {
+            let policy = Policy::new(graph, rows)
+                .map_err(|e| PatrolError::InvalidPolicy(format!("phase {phase}: {e}")))?;
+            if support.as_ref().is_some_and(|s| *s != policy.support) {
+                return Err(PatrolError::InvalidPolicy(format!(
+                    "phase {phase} has another support than phase 0"
+                )));
+            }
+            support = Some(policy.support);
+            moves.extend(policy.moves);
+        }
+        let Some(support) = support else {
+            return Err(PatrolError::InvalidPolicy("no phases".into()));
+        };
+        Ok(Policy {
+            support,
+            phases: count,
+            moves,
+        })
     }
 
     /// The policy that stands still on `v` forever.
     pub fn stay(v: NodeId) -> Policy {
         Policy {
             support: vec![v],
+            phases: 1,
             moves: vec![vec![(v, 1.0)]],
         }
     }
 
     /// Builds the policy from a chain's entry vector (rows already stochastic up to rounding).
     pub(crate) fn from_chain(chain: &Chain, alpha: &[f64]) -> Policy {
-        let moves = (0..chain.len())
+        let moves = (0..chain.rows())
             .map(|i| {
                 let row = chain.row(i);
                 let sum: f64 = row.clone().map(|e| alpha[e].max(0.0)).sum();
                 row.filter(|&e| alpha[e] > 0.0)
-                    .map(|e| (chain.nodes[chain.to[e]], alpha[e] / sum))
+                    .map(|e| (chain.nodes[chain.entry_to(e)], alpha[e] / sum))
                     .collect()
             })
             .collect();
         Policy {
             support: chain.nodes.clone(),
+            phases: chain.row_phases(),
             moves,
         }
     }
 
-    /// The entry vector of this policy on `chain` (whose support must be this policy's).
+    /// The entry vector of this policy on `chain` (whose support and phases must be this
+    /// policy's).
     pub(crate) fn to_chain_entries(&self, chain: &Chain) -> Vec<f64> {
         let mut alpha = vec![0.0; chain.entries()];
-        for (i, row) in self.moves.iter().enumerate() {
+        for (i, row) in self.moves.iter().enumerate().take(chain.rows()) {
             for &(w, p) in row {
-                if let Some(e) = chain.row(i).find(|&e| chain.nodes[chain.to[e]] == w) {
+                if let Some(e) = chain.row(i).find(|&e| chain.nodes[chain.entry_to(e)] == w) {
                     alpha[e] = p;
                 }
             }
@@ -145,28 +190,48 @@ impl Policy {
         alpha
     }
 
+    /// Phases with their own rows: 1 for a stationary policy, the period for a time-dependent
+    /// one.
+    pub fn phases(&self) -> usize {
+        self.phases
+    }
+
     /// The vertices the patroller visits, ascending.
     pub fn support(&self) -> &[NodeId] {
         &self.support
     }
 
-    /// The moves from `v` as `(next vertex, probability)`, or `None` outside the support.
+    /// The moves from `v` (at phase 0) as `(next vertex, probability)`, or `None` outside the
+    /// support.
     pub fn moves(&self, v: NodeId) -> Option<&[(NodeId, f64)]> {
-        let i = self.support.binary_search(&v).ok()?;
-        Some(&self.moves[i])
+        self.moves_at(v, 0)
     }
 
-    /// The probability of moving from `from` to `to` (0 outside the support).
+    /// The moves from `v` at `phase` (taken modulo [`Policy::phases`]), or `None` outside the
+    /// support.
+    pub fn moves_at(&self, v: NodeId, phase: usize) -> Option<&[(NodeId, f64)]> {
+        let i = self.support.binary_search(&v).ok()?;
+        let row = (phase % self.phases) * self.support.len() + i;
+        self.moves.get(row).map(Vec::as_slice)
+    }
+
+    /// The probability of moving from `from` to `to` at phase 0 (0 outside the support).
     pub fn probability(&self, from: NodeId, to: NodeId) -> f64 {
         self.moves(from)
             .and_then(|row| row.iter().find(|(w, _)| *w == to))
             .map_or(0.0, |&(_, p)| p)
     }
 
-    /// The next vertex from `from` for a uniform draw `u` in `[0, 1)` (inverse transform
-    /// sampling); `None` outside the support.
+    /// The next vertex from `from` at phase 0 for a uniform draw `u` in `[0, 1)` (inverse
+    /// transform sampling); `None` outside the support.
     pub fn next(&self, from: NodeId, u: f64) -> Option<NodeId> {
-        let row = self.moves(from)?;
+        self.next_at(from, 0, u)
+    }
+
+    /// The next vertex from `from` at `phase` for a uniform draw `u` in `[0, 1)`; `None`
+    /// outside the support.
+    pub fn next_at(&self, from: NodeId, phase: usize, u: f64) -> Option<NodeId> {
+        let row = self.moves_at(from, phase)?;
         let mut acc = 0.0;
         for &(w, p) in row {
             acc += p;
@@ -177,35 +242,47 @@ impl Policy {
         row.last().map(|&(w, _)| w)
     }
 
-    /// The chain of this policy's support for `instance`'s (static) targets.
+    /// The chain of this policy's support for `instance`'s targets.
     pub(crate) fn chain(&self, instance: &Instance) -> Result<Chain, PatrolError> {
+        let (period, targets) = instance.timeline()?;
+        if self.phases != 1 && self.phases != period {
+            return Err(PatrolError::InvalidPolicy(format!(
+                "the policy has {} phases, the instance's schedules a period of {period}",
+                self.phases
+            )));
+        }
         Ok(Chain::new(
             &instance.graph,
             &self.support,
-            &instance.static_targets()?,
+            &targets,
+            period,
+            self.phases > 1,
         ))
     }
 
     /// The exact outcome of every attack option: each target, started while the patroller
-    /// stands on each support vertex.
+    /// stands on each support vertex, at each phase of the schedule period (by target, then
+    /// phase, then vertex).
     ///
     /// # Errors
-    /// [`PatrolError::Unsupported`] for moving targets, [`PatrolError::InvalidPolicy`] if the
-    /// policy does not fit the instance's graph.
+    /// [`PatrolError::InvalidPolicy`] if the policy does not fit the instance's graph or
+    /// period, [`PatrolError::Unsupported`] for a period above
+    /// [`MAX_PERIOD`](super::MAX_PERIOD).
     pub fn attacks(&self, instance: &Instance) -> Result<Vec<Attack>, PatrolError> {
         self.check_graph(&instance.graph)?;
         let chain = self.chain(instance)?;
         let alpha = self.to_chain_entries(&chain);
         let mut capture = Vec::new();
         chain.capture(&alpha, &mut capture);
-        let n = chain.len();
+        let (n, states) = (chain.len(), chain.states());
         let mut attacks = Vec::with_capacity(capture.len());
         for (t, target) in chain.targets.iter().enumerate() {
-            for (h, &p) in capture[t * n..t * n + n].iter().enumerate() {
+            for (s, &p) in capture[t * states..(t + 1) * states].iter().enumerate() {
                 let p = p.min(1.0);
                 attacks.push(Attack {
                     target: t,
-                    from: chain.nodes[h],
+                    phase: s / n,
+                    from: chain.nodes[s % n],
                     capture_probability: p,
                     expected_loss: target.value * (1.0 - p),
                 });
@@ -228,7 +305,7 @@ impl Policy {
     }
 
     fn check_graph(&self, graph: &Graph) -> Result<(), PatrolError> {
-        for (&v, row) in self.support.iter().zip(&self.moves) {
+        for (&v, row) in self.support.iter().cycle().zip(&self.moves) {
             for &(w, _) in row {
                 if v >= graph.node_count() || (w != v && !graph.has_edge(v, w)) {
                     return Err(PatrolError::InvalidPolicy(format!(
@@ -240,7 +317,7 @@ impl Policy {
         Ok(())
     }
 
-    /// The closed communicating classes of the policy (the sets the patroller can end up
+    /// The closed communicating classes of the policy, all phases' moves together (the sets the patroller can end up
     /// circling in forever), each ascending, ordered by smallest vertex.
     pub fn recurrent_classes(&self) -> Vec<Vec<NodeId>> {
         let n = self.support.len();
@@ -251,7 +328,8 @@ impl Policy {
                 seen[start] = true;
                 let mut stack = vec![start];
                 while let Some(i) = stack.pop() {
-                    for &(w, _) in &self.moves[i] {
+                    let rows = (0..self.phases).map(|p| &self.moves[p * n + i]);
+                    for &(w, _) in rows.flatten() {
                         if let Some(j) = index(w).filter(|&j| !seen[j]) {
                             seen[j] = true;
                             stack.push(j);
@@ -282,12 +360,16 @@ impl Policy {
 
     /// This policy restricted to a closed set of its support vertices.
     pub(crate) fn restricted(&self, class: &[NodeId]) -> Policy {
-        let moves = class
-            .iter()
-            .filter_map(|&v| self.moves(v).map(<[_]>::to_vec))
+        let moves = (0..self.phases)
+            .flat_map(|phase| {
+                class
+                    .iter()
+                    .filter_map(move |&v| self.moves_at(v, phase).map(<[_]>::to_vec))
+            })
             .collect();
         Policy {
             support: class.to_vec(),
+            phases: self.phases,
             moves,
         }
     }

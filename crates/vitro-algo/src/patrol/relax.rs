@@ -40,7 +40,7 @@ pub(crate) fn relax(
     x: &[f64],
     stats: &mut LpStats,
 ) -> Result<Relaxation, PatrolError> {
-    let n = chain.len();
+    let n = chain.states();
     let m = chain.entries();
     let mut capture = Vec::new();
     chain.capture(x, &mut capture);
@@ -62,7 +62,7 @@ pub(crate) fn relax(
     let z = vars.add(variable().min(0.0));
     let mut model = vars.minimise(z).using(microlp);
     let mut constraints = 0;
-    for i in 0..n {
+    for i in 0..chain.rows() {
         let mut row = Expression::with_capacity(2 * chain.row(i).len());
         for e in chain.row(i) {
             row.add_mul(1.0, up[e]);
@@ -74,7 +74,7 @@ pub(crate) fn relax(
     // Attacks on targets outside the support are never caught: a constant floor.
     let mut floor: f64 = 0.0;
     for (t, target) in chain.targets.iter().enumerate() {
-        if target.local.is_none() {
+        if !target.reachable() {
             floor = floor.max(target.value);
             continue;
         }
@@ -106,7 +106,7 @@ pub(crate) fn relax(
     let mut alpha: Vec<f64> = (0..m)
         .map(|e| (x[e] + u[e] - d[e]).clamp(lo[e], hi[e]))
         .collect();
-    for i in 0..n {
+    for i in 0..chain.rows() {
         let sum: f64 = chain.row(i).map(|e| alpha[e]).sum();
         for e in chain.row(i) {
             alpha[e] /= sum;
@@ -115,7 +115,7 @@ pub(crate) fn relax(
     // Binding attacks: those whose relaxed loss reaches the optimum.
     let mut score = vec![0.0f64; m];
     for (t, target) in chain.targets.iter().enumerate() {
-        if target.local.is_none() {
+        if !target.reachable() {
             continue;
         }
         let (g_up, g_down) = &gradients[t];

@@ -98,35 +98,39 @@ fn extend(
     true
 }
 
-/// A lower bound on the loss of every policy on `chain`'s support: an attack whose target is
-/// outside the support, or farther (within the support) from the attack's start than its
-/// deadline, is never caught.
+/// A lower bound on the loss of every policy on `chain`'s support: an attack is never caught
+/// if, at every step `s` of it, the target's vertex is outside the support or farther (within
+/// the support) from the attack's start than `s` steps.
 pub(crate) fn unreachable_loss(chain: &Chain) -> f64 {
     let n = chain.len();
-    let mut worst: f64 = 0.0;
-    for target in &chain.targets {
-        let Some(local) = target.local else {
-            worst = worst.max(target.value);
-            continue;
-        };
-        // Breadth-first distances to the target inside the support (moves are symmetric).
-        let mut dist = vec![usize::MAX; n];
-        dist[local] = 0;
-        let mut queue = std::collections::VecDeque::from([local]);
-        while let Some(x) = queue.pop_front() {
-            for e in chain.row(x) {
-                let y = chain.to[e];
-                if dist[y] == usize::MAX {
-                    dist[y] = dist[x] + 1;
-                    queue.push_back(y);
+    // Breadth-first distances inside the support (moves are symmetric), from every vertex.
+    let dist: Vec<Vec<usize>> = (0..n)
+        .map(|source| {
+            let mut dist = vec![usize::MAX; n];
+            dist[source] = 0;
+            let mut queue = std::collections::VecDeque::from([source]);
+            while let Some(x) = queue.pop_front() {
+                for e in chain.row(x) {
+                    let y = chain.to[e];
+                    if dist[y] == usize::MAX {
+                        dist[y] = dist[x] + 1;
+                        queue.push_back(y);
+                    }
                 }
             }
-        }
-        // From the target itself the patroller must leave and come back (or stay): 1 step.
-        if dist
-            .iter()
-            .any(|&d| d == usize::MAX || d.max(1) > target.deadline)
-        {
+            dist
+        })
+        .collect();
+    let mut worst: f64 = 0.0;
+    for target in &chain.targets {
+        let escapes = (0..chain.period).any(|phase| {
+            (0..n).any(|h| {
+                (1..=target.deadline).all(|s| {
+                    target.local[(phase + s) % chain.period].is_none_or(|at| dist[h][at] > s)
+                })
+            })
+        });
+        if escapes {
             worst = worst.max(target.value);
         }
     }
