@@ -5,5 +5,6 @@ pub mod cops;
 pub mod graph;
 pub mod patrol;
 pub mod planning;
+pub mod pursuit;
 pub mod repair;
 pub mod rules;
