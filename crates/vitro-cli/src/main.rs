@@ -8,6 +8,9 @@
 //! vitro map info FILE.osm.pbf [--json]
 //! vitro map render FILE.osm.pbf --out map.png [--terrain GRID] [--offset X,Y]
 //! vitro terrain viewshed GRID --observer X,Y --observer-height H --target-height T --out MASK.asc
+//! vitro batch EXPERIMENT.toml --out DIR [--jobs N] [--shard I/N] [--resume]
+//! vitro merge DIR... --out DIR
+//! vitro plot DIR --out PLOTS [--metric M]... [--hist M]... [--success M]
 //! ```
 //!
 //! Exit codes: 0 success, 1 runtime error, 2 bad input (unreadable or malformed scenario,
