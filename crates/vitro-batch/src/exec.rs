@@ -104,13 +104,15 @@ pub enum BatchError {
 }
 
 impl BatchError {
-    /// Whether the user's input is at fault (a directory or resume mismatch), rather than
-    /// the system.
+    /// Whether the user's input is at fault (a directory that holds other results, or is
+    /// in use), rather than the system.
     pub fn is_input(&self) -> bool {
         matches!(
             self,
-            BatchError::Exists(_) | BatchError::Mismatch { .. } | BatchError::Pool { .. }
-        ) || matches!(self, BatchError::Journal(JournalError::Busy { .. }))
+            BatchError::Exists(_)
+                | BatchError::Mismatch { .. }
+                | BatchError::Journal(JournalError::Busy { .. })
+        )
     }
 }
 

@@ -16,7 +16,7 @@
 //!   line of `runs.jsonl`, synced to disk; a panic or an error fails that run only; a killed
 //!   batch resumes where it stopped.
 //! - **Results**: `manifest.json` (versions, hashes, seeds, statuses), the tidy tables
-//!   `summary` and `series` in CSV (and Parquet with the `parquet` feature), [`merge`] of
+//!   `summary` and `series` in CSV (and Parquet with the `parquet` feature), [`merge()`] of
 //!   shards, and plots (`plot` feature).
 //!
 //! ```no_run
