@@ -258,11 +258,11 @@ pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solutio
         Some(all) => (all, true),
         None => (graph.components(), false),
     };
-    let chains: Vec<Chain> = supports
+    let mut chains: Vec<Chain> = supports
         .iter()
         .map(|s| Chain::new(graph, s, &targets, period, timed))
         .collect();
-    let quick: Vec<f64> = chains.iter().map(supports::unreachable_loss).collect();
+    let mut quick: Vec<f64> = chains.iter().map(supports::unreachable_loss).collect();
     let mut order: Vec<usize> = (0..chains.len()).collect();
     order.sort_by(|&a, &b| {
         quick[a]
@@ -288,11 +288,40 @@ pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solutio
             best = Some((s, alpha, loss));
         }
     }
-    let Some(incumbent) = best else {
+    let Some(mut incumbent) = best else {
         return Err(PatrolError::InvalidInstance(
             "the graph has no vertices".into(),
         ));
     };
+    // A stationary policy is a time-dependent one: start from the best stationary policy too,
+    // so the time-dependent result is never worse.
+    if timed {
+        let stationary = solve_with(
+            instance,
+            &SolveOptions {
+                time_dependent: false,
+                ..options.clone()
+            },
+        )?;
+        let lifted = &stationary.policies[0];
+        let support = lifted.support();
+        let s = match chains.iter().position(|c| c.nodes == support) {
+            Some(s) => s,
+            None => {
+                chains.push(Chain::new(graph, support, &targets, period, true));
+                quick.push(supports::unreachable_loss(&chains[chains.len() - 1]));
+                chains.len() - 1
+            }
+        };
+        let start = lifted.to_chain_entries(&chains[s]);
+        let (alpha, loss) =
+            local::improve(&chains[s], start, options.local_iterations, &mut stats.lp);
+        stats.local_searches += 1;
+        stats.supports = chains.len();
+        if loss < incumbent.2 {
+            incumbent = (s, alpha, loss);
+        }
+    }
     // Stage 2: certify (or improve) by branch and bound on every support that could beat it.
     let cutoff = incumbent.2 - options.tolerance;
     let searched: Vec<usize> = (0..chains.len()).filter(|&s| quick[s] < cutoff).collect();

@@ -176,12 +176,14 @@ impl Policy {
         }
     }
 
-    /// The entry vector of this policy on `chain` (whose support and phases must be this
-    /// policy's).
+    /// The entry vector of this policy on `chain` (whose support must be this policy's; a
+    /// stationary policy fills every phase of a timed chain).
     pub(crate) fn to_chain_entries(&self, chain: &Chain) -> Vec<f64> {
         let mut alpha = vec![0.0; chain.entries()];
-        for (i, row) in self.moves.iter().enumerate().take(chain.rows()) {
-            for &(w, p) in row {
+        let n = self.support.len();
+        for i in 0..chain.rows() {
+            let source = ((i / n) % self.phases) * n + i % n;
+            for &(w, p) in &self.moves[source] {
                 if let Some(e) = chain.row(i).find(|&e| chain.nodes[chain.entry_to(e)] == w) {
                     alpha[e] = p;
                 }
