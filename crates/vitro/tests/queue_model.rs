@@ -291,6 +291,23 @@ proptest! {
     }
 }
 
+/// Long runs: enough pops for the queue to revise its layout (day width and count) a few
+/// times, with round trips in between. A fixed number of seeded cases (not scaled by
+/// `PROPTEST_CASES`: each is long).
+#[test]
+fn long_runs_match_the_model() {
+    use proptest::strategy::ValueTree;
+    use proptest::test_runner::TestRunner;
+    let mut runner = TestRunner::deterministic();
+    let ops = prop::collection::vec(op(), 1000..3000);
+    for case in 0..16 {
+        let ops = ops.new_tree(&mut runner).expect("a case").current();
+        if let Err(e) = run(&ops) {
+            panic!("case {case}: {e}");
+        }
+    }
+}
+
 /// Many events at one instant, interleaved with far ones: FIFO at equal times must hold across
 /// bucket boundaries (sequence numbers crossing digit boundaries) and a round trip.
 #[test]

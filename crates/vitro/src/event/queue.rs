@@ -5,21 +5,31 @@
 //!
 //! # How it works
 //!
-//! Simulated time never goes back: an event is never scheduled before the last popped one, and
-//! every new event gets a larger sequence number than any before it. So the 128-bit keys
-//! `(time << 64) | seq` leave the queue in increasing order, and the queue is a *monotone radix
-//! heap* on them. An entry sits in the bucket named by the highest byte in which its key
-//! differs from the last popped key, and by its own value of that byte (16 positions × 256
-//! values); every key of a bucket is below every key of a higher bucket. A push is a
-//! `leading_zeros` and an append. A pop takes the minimum of the lowest non-empty bucket (found
-//! in a two-level bitmap) and spreads the rest of that bucket over lower buckets. An entry
-//! moves at most 16 times in its life, in practice once or twice (1.2 times with 10^3 pending
-//! events with exponential hold times, 2.1 times with 10^6), and each move is a sequential
-//! copy of 24 bytes: no sift, no unpredictable branch per heap level, no cache miss per level
-//! once the queue outgrows the cache.
+//! Entries are keyed by the 128-bit `(time << 64) | seq`, so equal times pop in push order.
+//! They live in three tiers (module `calendar`): the current *day* (a span of `2^k`
+//! nanoseconds, about the mean gap between events) in a small binary heap; the next days,
+//! up to a horizon a few mean hold times ahead, unsorted in a ring of day buckets (a calendar
+//! queue, Brown 1988); and the events beyond the horizon in a monotone radix heap. A push is an
+//! append to its tier; a pop takes the heap's minimum and, when the day is over, heapifies the
+//! next non-empty day (found in a two-level bitmap) and moves the far events the window now
+//! covers from the radix heap to the ring. The day width and count follow the observed gaps
+//! and hold distances, revised at most once per `len` pops (a revision is O(len)). A crowded
+//! instant costs O(log n) per event in the day heap, never a linear scan.
 //!
-//! Buckets are lists of fixed-size chunks drawn from one pool, so memory follows the number of
-//! entries rather than the largest size every bucket ever reached.
+//! Simulated time never goes back: an event is never scheduled before the last popped one, and
+//! every new event gets a larger sequence number than any before it. So the keys leave the queue in
+//! increasing order, and the far tier is a *monotone radix heap* on them. An entry sits in the
+//! bucket named by the highest byte in which its key differs from the last popped key, and by its
+//! own value of that byte (16 positions × 256 values); every key of a bucket is below every key of
+//! a higher bucket. A push is a `leading_zeros` and an append. A pop takes the minimum of the
+//! lowest non-empty bucket (found in a two-level bitmap) and spreads the rest of that bucket over
+//! lower buckets. An entry moves at most 16 times in its life, in practice once or twice, and
+//! each move is a sequential copy of 24 bytes: no sift, no unpredictable branch per heap level, no cache miss per
+//! level once the queue outgrows the cache.
+//!
+//! Buckets, the radix heap's and the ring's days, are lists of fixed-size chunks drawn from one
+//! pool, so memory follows the number of entries rather than the largest size every bucket
+//! ever reached.
 //!
 //! Payloads live in a slab, apart from the 24-byte entries `(time, seq, slot)` that move
 //! between buckets. Cancelling frees the slab slot at once (dropping the payload); the entry
@@ -32,7 +42,10 @@
 //! the same [`EventId`]s as the original from then on. The serialized state is checked when it
 //! is read back: a corrupt snapshot is an error, not a panic later.
 
+mod calendar;
+
 use crate::time::SimTime;
+use calendar::Calendar;
 use serde::{Deserialize, Serialize};
 
 /// Handle of a scheduled event: its scheduling sequence number and its storage slot.
@@ -191,7 +204,7 @@ impl RadixHeap {
     fn new(last: u128) -> Self {
         RadixHeap {
             last,
-            heads: vec![Head::NONE; BUCKETS],
+            heads: vec![Head::NONE; BUCKETS + calendar::MAX_DAYS],
             chunks: Vec::new(),
             free_chunks: NIL,
             occupied: [0; WORDS],
@@ -221,21 +234,28 @@ impl RadixHeap {
     /// Stores `e` in bucket `b` (the caller counts it in `len`).
     #[inline(always)]
     fn append(&mut self, b: usize, e: Entry) {
+        self.store(b, e);
+        self.mark(b);
+    }
+
+    /// Stores `e` in the chunk list `b` (a bucket, or one of the calendar's lists from
+    /// [`BUCKETS`] on), without marking it.
+    #[inline(always)]
+    fn store(&mut self, b: usize, e: Entry) {
         let head = &mut self.heads[b];
         if (head.len as usize) < CHUNK {
             let i = head.len as usize;
             head.len += 1;
             let c = head.chunk as usize;
             self.chunks[c].entries[i] = e;
-            self.mark(b);
         } else {
-            self.append_chunk(b, e);
+            self.store_chunk(b, e);
         }
     }
 
-    /// Stores `e` in a new chunk at the head of bucket `b`.
+    /// Stores `e` in a new chunk at the head of list `b`.
     #[inline(never)]
-    fn append_chunk(&mut self, b: usize, e: Entry) {
+    fn store_chunk(&mut self, b: usize, e: Entry) {
         let next = self.heads[b].chunk;
         let c = if self.free_chunks != NIL {
             let c = self.free_chunks;
@@ -253,7 +273,19 @@ impl RadixHeap {
             c as u32
         };
         self.heads[b] = Head { chunk: c, len: 1 };
-        self.mark(b);
+    }
+
+    /// Empties the chunk lists `lists` (unmarked ones: not counted in `len`), freeing their
+    /// chunks.
+    fn clear_lists(&mut self, lists: std::ops::Range<usize>) {
+        for b in lists {
+            let mut c = std::mem::replace(&mut self.heads[b], Head::NONE).chunk;
+            while c != NIL {
+                let next = self.chunks[c as usize].next;
+                self.free_chunk(c);
+                c = next;
+            }
+        }
     }
 
     /// Puts chunk `c` on the free list.
@@ -388,6 +420,7 @@ impl RadixHeap {
     }
 
     /// Keeps only the entries of bucket `b` for which `keep` holds (`last` does not change).
+    #[cfg(test)]
     fn retain_in(&mut self, b: usize, mut keep: impl FnMut(&Entry) -> bool) {
         self.front = None;
         let before: Vec<Entry> = self.bucket(b).copied().collect();
@@ -455,17 +488,11 @@ fn is_live<T>(slots: &[Slot<T>], e: &Entry) -> bool {
 pub struct EventQueue<T> {
     now: SimTime,
     next_seq: u64,
-    heap: RadixHeap,
+    heap: Calendar,
     slots: Vec<Slot<T>>,
     free_head: u32,
     /// Number of pending events (occupied slots).
     pending: usize,
-}
-
-/// The key of `now` with the smallest sequence number: not above any entry, nor above any key
-/// pushed later.
-fn floor_key(now: SimTime) -> u128 {
-    u128::from(now.as_nanos()) << 64
 }
 
 impl<T: Serialize> Serialize for EventQueue<T> {
@@ -506,7 +533,7 @@ impl<T> TryFrom<QueueState<T>> for EventQueue<T> {
             return Err(InvalidState("too many slots"));
         }
         // Each event: in range, and the one its slot holds (so no two events share a slot).
-        let mut heap = RadixHeap::new(floor_key(s.now));
+        let mut heap = Calendar::new(s.now.as_nanos());
         let mut covered = vec![false; n];
         for e in s.events {
             if e.time < s.now.as_nanos() || e.seq >= s.next_seq {
@@ -515,7 +542,7 @@ impl<T> TryFrom<QueueState<T>> for EventQueue<T> {
             if !is_live(&s.slots, &e) || std::mem::replace(&mut covered[e.slot as usize], true) {
                 return Err(InvalidState("event does not match its slot"));
             }
-            heap.push(e);
+            heap.push(e, s.now.as_nanos());
         }
         // Every pending slot has its event; the free list links exactly the free slots.
         let mut free = 0;
@@ -547,7 +574,7 @@ impl<T> TryFrom<QueueState<T>> for EventQueue<T> {
         Ok(EventQueue {
             now: s.now,
             next_seq: s.next_seq,
-            pending: heap.len,
+            pending: heap.len(),
             heap,
             slots: s.slots,
             free_head: s.free_head,
@@ -572,7 +599,7 @@ impl<T> EventQueue<T> {
         EventQueue {
             now: SimTime::ZERO,
             next_seq: 0,
-            heap: RadixHeap::new(0),
+            heap: Calendar::new(0),
             slots: Vec::with_capacity(n),
             free_head: NO_FREE,
             pending: 0,
@@ -626,11 +653,14 @@ impl<T> EventQueue<T> {
             self.slots.push(pending);
             s as u32
         };
-        self.heap.push(Entry {
-            time: at.as_nanos(),
-            seq,
-            slot,
-        });
+        self.heap.push(
+            Entry {
+                time: at.as_nanos(),
+                seq,
+                slot,
+            },
+            self.now.as_nanos(),
+        );
         self.pending += 1;
         Ok(EventId { seq, slot })
     }
@@ -664,30 +694,19 @@ impl<T> EventQueue<T> {
         old
     }
 
-    /// Where the earliest pending event's entry is, after discarding stale entries before it.
-    #[inline]
-    fn live_min(&mut self) -> Option<Pos> {
-        loop {
-            let pos = self.heap.min_pos()?;
-            if is_live(&self.slots, self.heap.get(pos)) {
-                return Some(pos);
-            }
-            // The front entry belongs to a cancelled event: clear its bucket of all such.
-            let slots = &self.slots;
-            self.heap.retain_in(pos.bucket, |e| is_live(slots, e));
-        }
-    }
-
     /// The time of the earliest pending event.
+    #[inline]
     pub fn peek_time(&mut self) -> Option<SimTime> {
-        let pos = self.live_min()?;
-        Some(SimTime::from_nanos(self.heap.get(pos).time))
+        let slots = &self.slots;
+        let e = self.heap.peek(|e| is_live(slots, e))?;
+        Some(SimTime::from_nanos(e.time))
     }
 
     /// Removes the earliest pending event and advances [`now`](Self::now) to its time.
+    #[inline]
     pub fn pop(&mut self) -> Option<Popped<T>> {
-        let pos = self.live_min()?;
-        let e = self.heap.take_min(pos);
+        self.peek_time()?;
+        let e = self.heap.pop_peeked()?;
         let Slot::Pending { seq, payload } = self.free(e.slot) else {
             unreachable!("a live entry's slot is pending")
         };
