@@ -8,7 +8,10 @@
 
 mod ground;
 mod legend;
+mod overlay;
 mod text;
+
+pub use overlay::Overlay;
 
 use crate::geo::{P2, Polygon};
 use crate::map::{Mode, TownMap};
@@ -166,6 +169,17 @@ fn polygon_path(view: &View, poly: &Polygon, offset: P2) -> Option<tiny_skia::Pa
 pub fn render_site(
     site: &Site,
     opts: &RenderOptions,
+    out: impl AsRef<Path>,
+) -> Result<RenderSummary, RenderError> {
+    render_site_with(site, opts, &[], out)
+}
+
+/// Renders a site with `overlays` (trajectories, routes) drawn over it and listed in a
+/// legend of their own, to the PNG file `out`.
+pub fn render_site_with(
+    site: &Site,
+    opts: &RenderOptions,
+    overlays: &[Overlay],
     out: impl AsRef<Path>,
 ) -> Result<RenderSummary, RenderError> {
     let out = out.as_ref();
@@ -349,7 +363,9 @@ pub fn render_site(
         }
     }
 
+    overlay::draw(&mut pix, &view, overlays);
     legend::decorate(&mut pix, &view, site, opts)?;
+    overlay::legend(&mut pix, overlays)?;
     pix.save_png(out).map_err(|e| RenderError::Write {
         path: out.display().to_string(),
         message: e.to_string(),
