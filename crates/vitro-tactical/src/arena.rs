@@ -18,7 +18,8 @@ use crate::entity::air::{
 use crate::entity::discrete::{AtNode, NodeKind};
 use crate::entity::ground::interpolated::OnGround;
 use crate::entity::ground::physical::{Chassis, Physics, PhysicsError};
-use crate::entity::route::{Follow, Roads};
+use crate::entity::roads::Roads;
+use crate::entity::route::Follow;
 use crate::entity::troop::Walker;
 use crate::entity::{Level, Pose};
 use crate::map::Mode;

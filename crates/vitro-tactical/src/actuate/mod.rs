@@ -19,7 +19,8 @@ pub mod troop;
 
 use crate::arena::{Arena, Clock, Ev};
 use crate::entity::discrete::{NodeKind, Trip};
-use crate::entity::route::{RouteError, Track};
+use crate::entity::roads::RouteError;
+use crate::entity::route::Track;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::entity::EntityId;

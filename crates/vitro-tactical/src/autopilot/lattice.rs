@@ -1,5 +1,5 @@
 //! The discrete level's autopilot, for both aircraft types: the aircraft moves from cell to
-//! cell of its [`Lattice`], one maneuver per event.
+//! cell of its [`Lattice`](crate::entity::air::Lattice), one maneuver per event.
 //!
 //! - Fixed-wing: every maneuver moves one cell along the heading after a turn of −45°, 0 or
 //!   +45° (and optionally one layer up or down); it never stops. Waypoints are reached by a

@@ -44,7 +44,7 @@ pub mod property;
 pub mod scenario;
 
 use crate::entity::Level;
-use crate::entity::route::Roads;
+use crate::entity::roads::Roads;
 use crate::map::{MapConfig, MapError, TownMap};
 use crate::model::Tactical;
 use crate::site::{Site, SiteConfig, SiteError};

@@ -12,7 +12,8 @@ use crate::arena::{Arena, Ev};
 use crate::autopilot::{self, FlyError};
 use crate::entity::Level;
 use crate::entity::air::{AirKind, FlightCommand};
-use crate::entity::route::{FreeGraph, Track};
+use crate::entity::roads::FreeGraph;
+use crate::entity::route::Track;
 use crate::geo::P2;
 use crate::map::Mode;
 use crate::mission::{FlightMission, Leg, VisitNodes};
@@ -25,9 +26,9 @@ use vitro::sim::Simulation;
 use vitro::time::SimTime;
 
 /// Spacing of the flight route's waypoints: junctions closer than this are skipped, metres.
-const WAYPOINT_SPACING: f64 = 150.0;
+pub const WAYPOINT_SPACING: f64 = 150.0;
 /// Height of the flight route above the highest ground under it, metres.
-const FLIGHT_HEIGHT: f64 = 100.0;
+pub const FLIGHT_HEIGHT: f64 = 100.0;
 
 /// The standard trip on `mode`'s free graph: the main-part nodes nearest to the points 60 %
 /// of the way from the town's centre to its south-west and north-east corners.

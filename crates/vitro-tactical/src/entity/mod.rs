@@ -7,12 +7,13 @@
 //! |---|---|
 //! | car, cargo truck, MDARS | [`discrete`] (a node) / [`ground::interpolated`] (x, y on the ground mesh) / [`ground::physical`] (a rigid body on the terrain) |
 //! | trooper (blue, red, VIP) | [`discrete`] / [`troop`] (x, y, heading) |
-//! | fixed-wing UAV | [`air::lattice`] (maneuvers on a grid) / [`air::ctol`] (kinematic) |
-//! | helicopter UAV | [`air::lattice`] / [`air::vtol`] (rotor dynamics) |
+//! | fixed-wing UAV | [`air::Lattice`] (maneuvers on a grid) / [`air::ctol`] (kinematic) |
+//! | helicopter UAV | [`air::Lattice`] / [`air::vtol`] (rotor dynamics) |
 
 pub mod air;
 pub mod discrete;
 pub mod ground;
+pub mod roads;
 pub mod route;
 pub mod troop;
 

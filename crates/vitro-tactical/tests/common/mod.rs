@@ -5,7 +5,7 @@
 use std::sync::{Arc, OnceLock};
 use vitro::prelude::*;
 use vitro_tactical::arena::{Arena, Ev};
-use vitro_tactical::entity::route::Roads;
+use vitro_tactical::entity::roads::Roads;
 use vitro_tactical::map::{MapConfig, TownMap};
 use vitro_tactical::model::Tactical;
 use vitro_tactical::site::{Site, SiteConfig};
