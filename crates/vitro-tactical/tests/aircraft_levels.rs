@@ -159,6 +159,7 @@ fn helicopters_hold_altitude_after_a_disturbance() {
             .filter(|(t, _, _)| *t > t0)
             .map(|(_, q, _)| (q[2] - p[2]).abs())
             .fold(0.0, f64::max);
+        println!("{kind:?}: worst altitude error after the gust {worst:.2} m");
         assert!(
             worst < 3.0,
             "{kind:?}: {worst:.2} m off the commanded altitude"
