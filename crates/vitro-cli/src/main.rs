@@ -5,6 +5,7 @@
 //! vitro validate SCENARIO
 //! vitro plan DOMAIN PROBLEM [--optimal] [--json]
 //! vitro solve cops GRAPH.edges [--json]
+//! vitro check levels [--json]
 //! vitro map info FILE.osm.pbf [--json]
 //! vitro map render FILE.osm.pbf --out map.png [--terrain GRID] [--offset X,Y]
 //! vitro terrain viewshed GRID --observer X,Y --observer-height H --target-height T --out MASK.asc
@@ -17,6 +18,7 @@
 //! value out of range, bad arguments), 4 the answer is a failure (no plan exists).
 
 mod batch;
+mod check;
 mod map;
 mod plan;
 mod run;
@@ -56,6 +58,9 @@ enum Command {
     Merge(batch::MergeArgs),
     /// Plots a result directory (PNG and SVG).
     Plot(batch::PlotArgs),
+    /// Cross-level checks: `vitro check levels`.
+    #[command(subcommand)]
+    Check(check::CheckCommand),
     /// Checks a scenario file without running it.
     Validate {
         /// The scenario file (TOML).
@@ -85,6 +90,7 @@ fn main() -> ExitCode {
         Command::Plan(args) => plan::plan(&args),
         Command::Solve(cmd) => solve::solve(&cmd),
         Command::Map(cmd) => map::map(&cmd),
+        Command::Check(cmd) => check::check(&cmd),
         Command::Terrain(cmd) => map::terrain(&cmd),
     };
     match result {
