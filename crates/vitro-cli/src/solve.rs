@@ -8,11 +8,26 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use vitro_algo::cops::{CopOptions, CopsError, Decision, cop_number};
 use vitro_algo::graph::{Graph, GraphError};
+use vitro_algo::patrol::{self, Instance, PatrolError, Policy, SolveOptions};
 
 #[derive(Debug, Subcommand)]
 pub(crate) enum SolveCommand {
     /// The cop number of a graph (cops and robber, full visibility), computed exactly.
     Cops(CopsArgs),
+    /// The best randomised patrol of a patrolling game (static or moving targets).
+    Patrol(PatrolArgs),
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct PatrolArgs {
+    /// The instance (TOML: [graph], [[target]], [[patroller]]).
+    instance: PathBuf,
+    /// Prints one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Optimises time-dependent policies (one transition matrix per schedule phase).
+    #[arg(long)]
+    time_dependent: bool,
 }
 
 #[derive(Debug, Args)]
@@ -27,6 +42,7 @@ pub(crate) struct CopsArgs {
 pub(crate) fn solve(cmd: &SolveCommand) -> Result<(), Failure> {
     match cmd {
         SolveCommand::Cops(args) => cops(args),
+        SolveCommand::Patrol(args) => patrol(args),
     }
 }
 
@@ -105,6 +121,127 @@ fn cops(args: &CopsArgs) -> Result<(), Failure> {
                 "  component {i}: {} nodes, {} cop(s) by {}, capture in {} cop moves",
                 c.nodes, c.cop_number, c.decided_by, c.capture_time
             );
+        }
+    }
+    Ok(())
+}
+
+#[derive(Serialize)]
+struct PatrolReport {
+    /// The attacker's best expected gain against the policies.
+    value: f64,
+    /// The smallest capture probability over all attacks.
+    capture_probability: f64,
+    lower_bound: f64,
+    exact: bool,
+    time_dependent: bool,
+    period: usize,
+    /// Per patroller: per phase, per vertex, the next-vertex probabilities.
+    policy: Vec<PolicyReport>,
+    stats: patrol::SolveStats,
+    wall_time_s: f64,
+}
+
+#[derive(Serialize)]
+struct PolicyReport {
+    patroller: String,
+    support: Vec<usize>,
+    /// `phases[φ][i]`: the moves from `support[i]` at phase `φ` as `[next, probability]`.
+    phases: Vec<Vec<Vec<(usize, f64)>>>,
+}
+
+fn policy_report(name: &str, policy: &Policy) -> PolicyReport {
+    let phases = (0..policy.phases())
+        .map(|phase| {
+            policy
+                .support()
+                .iter()
+                .map(|&v| {
+                    policy
+                        .moves_at(v, phase)
+                        .map(<[_]>::to_vec)
+                        .unwrap_or_default()
+                })
+                .collect()
+        })
+        .collect();
+    PolicyReport {
+        patroller: name.to_string(),
+        support: policy.support().to_vec(),
+        phases,
+    }
+}
+
+fn patrol_failure(path: &Path, e: PatrolError) -> Failure {
+    match e {
+        PatrolError::Parse {
+            line,
+            column,
+            message,
+        } => Failure::Input(anyhow!("{}:{line}:{column}: {message}", path.display())),
+        PatrolError::Lp(_) => Failure::Runtime(anyhow!("{}: {e}", path.display())),
+        other => Failure::Input(anyhow!("{}: {other}", path.display())),
+    }
+}
+
+fn patrol(args: &PatrolArgs) -> Result<(), Failure> {
+    let path = &args.instance;
+    let instance = Instance::load(path).map_err(|e| patrol_failure(path, e))?;
+    let period = instance.period().map_err(|e| patrol_failure(path, e))?;
+    let options = SolveOptions {
+        time_dependent: args.time_dependent,
+        ..SolveOptions::default()
+    };
+    let started = Instant::now();
+    let solution = patrol::solve_with(&instance, &options).map_err(|e| patrol_failure(path, e))?;
+    let report = PatrolReport {
+        value: solution.value,
+        capture_probability: solution.capture_probability,
+        lower_bound: solution.lower_bound,
+        exact: solution.exact,
+        time_dependent: args.time_dependent && period > 1,
+        period,
+        policy: instance
+            .patrollers
+            .iter()
+            .zip(&solution.policies)
+            .map(|(p, policy)| policy_report(&p.name, policy))
+            .collect(),
+        stats: solution.stats,
+        wall_time_s: started.elapsed().as_secs_f64(),
+    };
+    if args.json {
+        let line = serde_json::to_string(&report).map_err(|e| Failure::Runtime(anyhow!(e)))?;
+        println!("{line}");
+        return Ok(());
+    }
+    println!(
+        "value {:.6} (attacker's expected gain), capture probability {:.6}, {} (lower bound {:.6}); {} policy, period {period}, {:.3} s",
+        report.value,
+        report.capture_probability,
+        if report.exact {
+            "certified optimal"
+        } else {
+            "not certified"
+        },
+        report.lower_bound,
+        if report.time_dependent {
+            "time-dependent"
+        } else {
+            "stationary"
+        },
+        report.wall_time_s
+    );
+    for p in &report.policy {
+        println!("{}:", p.patroller);
+        for (phase, rows) in p.phases.iter().enumerate() {
+            if p.phases.len() > 1 {
+                println!("  phase {phase}:");
+            }
+            for (v, row) in p.support.iter().zip(rows) {
+                let moves: Vec<String> = row.iter().map(|(w, q)| format!("{w}: {q:.4}")).collect();
+                println!("    {v} -> {}", moves.join(", "));
+            }
         }
     }
     Ok(())
