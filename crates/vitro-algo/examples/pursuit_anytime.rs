@@ -5,8 +5,8 @@
 //!
 //! The board is Kotka's walking graph (largest component) with line of sight between
 //! junctions (eye height 1.7 m, range 250 m, over buildings, bridges and terrain), exported
-//! once from vitro-tactical into `data/graphs/kotka_walk.{edges,vis,pos}` (see
-//! `data/graphs/kotka_walk.md`). 3 pursuers, horizon 200 turns, a fixed seed set: episode `i`
+//! once from vitro-tactical into `data/town/kotka_walk.{edges,vis,pos}` (see
+//! `data/town/kotka_walk.md`). 3 pursuers, horizon 200 turns, a fixed seed set: episode `i`
 //! uses seed `i` for the random start (pursuers anywhere, the evader at least 15 hops from
 //! each, or as far as possible) and for the players. Budgets: MCTS gets `B` iterations per
 //! move; minimax gets `30 * B` expanded nodes (one MCTS iteration simulates up to 30 turns),
@@ -164,8 +164,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(s) => s.parse()?,
         None => 30,
     };
-    let graph = Graph::load(format!("{ROOT}/data/graphs/kotka_walk.edges"))?;
-    let vis = VisibilityGraph(Graph::load(format!("{ROOT}/data/graphs/kotka_walk.vis"))?);
+    let graph = Graph::load(format!("{ROOT}/data/town/kotka_walk.edges"))?;
+    let vis = VisibilityGraph(Graph::load(format!("{ROOT}/data/town/kotka_walk.vis"))?);
     let arena = Arena::new(graph, &vis)?;
     let seen: usize = (0..arena.node_count())
         .map(|v| arena.visible_from(v).len() - 1)
