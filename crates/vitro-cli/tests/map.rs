@@ -1,24 +1,8 @@
 //! `vitro map info`, `vitro map render`, `vitro terrain viewshed` on the real data in the repo.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
 
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn vitro(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_vitro"))
-        .args(args)
-        .current_dir(repo())
-        .output()
-        .expect("the binary runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::vitro;
 
 fn tmp(name: &str) -> String {
     std::env::temp_dir()
