@@ -399,7 +399,7 @@ fn bad_input_exits_2_with_a_place() {
 
 #[test]
 fn example_experiments_load() {
-    for name in ["demo_sweep", "demo_lhs"] {
+    for name in ["demo_sweep", "demo_lhs", "jobs_speedup"] {
         let path = scenario(&format!("../../experiments/{name}.toml"));
         let d = tmp(name);
         // One shard of many: checks the file and makes a single short run.
