@@ -1,0 +1,197 @@
+//! Frames and scenes: the plain data of a recording.
+//!
+//! World coordinates are metres, `x` east, `y` north, `z` up (the simulator's world frame);
+//! [`Geo`] turns them into latitude and longitude. Times are simulated nanoseconds.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Allegiance as the viewer draws it (MIL-STD-2525 affiliations).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Side {
+    /// Own forces (blue).
+    Friendly,
+    /// Adversaries (red).
+    Hostile,
+    /// Civilians, bystanders (green).
+    Neutral,
+    /// Not identified (yellow).
+    Unknown,
+}
+
+/// One entity at one instant.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EntityState {
+    /// Entity id (stable over the run).
+    pub id: u32,
+    /// Entity name (unique).
+    pub name: String,
+    /// Entity type: `"truck"`, `"car"`, `"ugv"`, `"trooper"`, `"vip"`, `"hvt"`, `"ctol"`,
+    /// `"vtol"`, ...
+    pub kind: String,
+    /// Allegiance.
+    pub side: Side,
+    /// Fidelity level: `"discrete"`, `"interpolated"`, `"physical"`, `"directed"`,
+    /// `"kinematic"`, `"dynamic"`.
+    pub level: String,
+    /// Position of the base (feet, wheels, aircraft centre), world metres.
+    pub pos: [f64; 3],
+    /// Heading, radians counter-clockwise from east.
+    pub heading: f64,
+    /// Speed over ground, m/s.
+    pub speed: f64,
+    /// Condition: `"active"`, `"down"`, `"captured"`, `"aboard"`, `"extracted"`, ...
+    pub status: String,
+}
+
+/// A sensor detection: `observer` sees `target` this instant.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Detection {
+    /// Who sees.
+    pub observer: u32,
+    /// Who is seen.
+    pub target: u32,
+    /// The observer's eye, world metres.
+    pub from: [f64; 3],
+    /// The target's centre, world metres.
+    pub to: [f64; 3],
+    /// The side the observer believes the target is on.
+    pub seen_as: Side,
+}
+
+/// A message sent through the simulated network.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MessageEvent {
+    /// When it was sent, simulated nanoseconds.
+    pub t_ns: u64,
+    /// Sender.
+    pub from: u32,
+    /// Receiver (`None`: broadcast or a group).
+    pub to: Option<u32>,
+    /// What it is about (the message variant, e.g. `"contact"`, `"bid"`).
+    pub kind: String,
+    /// Whether it was delivered (`false`: lost or bounced).
+    pub delivered: bool,
+}
+
+/// An agent's current intention and plan, as the agent states it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Intention {
+    /// The agent.
+    pub id: u32,
+    /// One line: what it is doing and why (e.g. `"escort VIP to extraction"`).
+    pub text: String,
+    /// The steps of its current plan, if it has one (e.g. PDDL actions, formation names).
+    pub plan: Vec<String>,
+    /// The path it means to follow, world metres (may be empty).
+    pub path: Vec<[f64; 3]>,
+}
+
+/// Everything that changes, at one sampled instant.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Frame {
+    /// Simulated time, nanoseconds.
+    pub t_ns: u64,
+    /// Events fired so far.
+    pub events: u64,
+    /// Every entity with a body, by id.
+    pub entities: Vec<EntityState>,
+    /// Detections this instant.
+    pub detections: Vec<Detection>,
+    /// Messages sent since the previous frame.
+    pub messages: Vec<MessageEvent>,
+    /// Intentions of the agents that state one.
+    pub intentions: Vec<Intention>,
+    /// Mission metrics so far (name → value).
+    pub metrics: BTreeMap<String, f64>,
+    /// A one-line account of what happened since the previous frame, if anything did
+    /// (e.g. `"VIP picked up"`).
+    pub log: Vec<String>,
+}
+
+/// World coordinates to latitude and longitude: a local equirectangular projection.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Geo {
+    /// Latitude of the town origin, degrees.
+    pub lat0: f64,
+    /// Longitude of the town origin, degrees.
+    pub lon0: f64,
+    /// Metres per degree of latitude at the origin.
+    pub m_per_deg_lat: f64,
+    /// Metres per degree of longitude at the origin.
+    pub m_per_deg_lon: f64,
+    /// World position of the town origin, metres.
+    pub offset: [f64; 2],
+    /// Height of world `z = 0` above mean sea level, metres.
+    pub z0: f64,
+}
+
+impl Geo {
+    /// `[lat, lon, altitude above sea level]` of a world point.
+    ///
+    /// ```
+    /// use vitro_record::Geo;
+    /// let g = Geo { lat0: 60.0, lon0: 27.0, m_per_deg_lat: 111_000.0, m_per_deg_lon: 55_500.0,
+    ///               offset: [100.0, 0.0], z0: 5.0 };
+    /// assert_eq!(g.to_wgs84([100.0, 111.0, 1.0]), [60.001, 27.0, 6.0]);
+    /// ```
+    pub fn to_wgs84(&self, p: [f64; 3]) -> [f64; 3] {
+        [
+            self.lat0 + (p[1] - self.offset[1]) / self.m_per_deg_lat,
+            self.lon0 + (p[0] - self.offset[0]) / self.m_per_deg_lon,
+            p[2] + self.z0,
+        ]
+    }
+}
+
+/// A building: footprint on the ground and height.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Building {
+    /// Outer ring, world metres (not closed: the last point differs from the first).
+    pub footprint: Vec<[f64; 2]>,
+    /// Ground height under the building, world metres.
+    pub base: f64,
+    /// Height above its base, metres.
+    pub height: f64,
+}
+
+/// A regular grid of ground heights.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Heightmap {
+    /// Columns (x).
+    pub nx: usize,
+    /// Rows (y).
+    pub ny: usize,
+    /// World position of sample (0, 0), metres.
+    pub origin: [f64; 2],
+    /// Spacing between samples, metres.
+    pub cell: f64,
+    /// Heights, row-major from `origin` (row `j` at `y = origin[1] + j·cell`), world metres.
+    pub z: Vec<f32>,
+}
+
+/// The static world a run plays in: what a viewer draws once.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Scene {
+    /// Scenario name.
+    pub name: String,
+    /// Geo-reference of the world frame.
+    pub geo: Geo,
+    /// World extent `[min_x, min_y, max_x, max_y]` of the town, metres.
+    pub extent: [f64; 4],
+    /// Street centre lines (drivable), world metres.
+    pub streets: Vec<Vec<[f64; 3]>>,
+    /// Footpaths, world metres.
+    pub paths: Vec<Vec<[f64; 3]>>,
+    /// Buildings.
+    pub buildings: Vec<Building>,
+    /// Bridge decks, world metres.
+    pub bridges: Vec<Vec<[f64; 3]>>,
+    /// Forbidden zones: outer rings, world metres.
+    pub forbidden: Vec<Vec<[f64; 2]>>,
+    /// Named places of the mission (e.g. `"safehouse"`, `"extraction"`), world metres.
+    pub places: BTreeMap<String, [f64; 3]>,
+    /// The ground.
+    pub terrain: Heightmap,
+}
