@@ -23,6 +23,7 @@ pub mod los;
 pub mod map;
 pub mod mission;
 pub mod model;
+pub mod radio;
 pub mod render;
 pub mod sensor;
 pub mod site;

@@ -35,6 +35,7 @@
 //! ```
 
 use crate::arena::{Arena, Clock, Ev};
+use crate::radio::Radio;
 use crate::{actuate, autopilot};
 use std::any::Any;
 use vitro::entity::EntityId;
@@ -72,7 +73,7 @@ impl Agent<Tactical> for Box<dyn Controller> {
 impl Model for Tactical {
     type Env = Arena;
     type Event = Ev;
-    type Msg = ();
+    type Msg = Radio;
     type Agent = Box<dyn Controller>;
 
     fn on_env_event(env: &mut Arena, event: &Ev, fx: &mut Effects<'_, Ev>) {

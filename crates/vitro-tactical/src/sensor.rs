@@ -4,6 +4,7 @@
 //! noise, `"fof"` for detection and identification draws. Candidates are examined in entity-id
 //! order, so a reading depends only on the world and the stream, never on a hasher.
 
+use crate::site::Site;
 use crate::world::{Body, Side, World};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
@@ -163,7 +164,7 @@ impl FriendFoeVision {
 
     /// True if `target` is in range, in the field of view and in line of sight of `me`
     /// (no randomness).
-    pub fn can_see(&self, w: &World, me: &Body, target: &Body) -> bool {
+    pub fn can_see(&self, site: &Site, me: &Body, target: &Body) -> bool {
         let d = dist3(me.pos, target.pos);
         if d > self.range {
             return false;
@@ -173,7 +174,7 @@ impl FriendFoeVision {
         let in_fov = self.half_fov >= std::f64::consts::PI
             || (dx == 0.0 && dy == 0.0)
             || wrap(libm::atan2(dy, dx) - me.heading).abs() <= self.half_fov;
-        in_fov && w.site.los.visible(me.eye(), target.centre())
+        in_fov && site.los.visible(me.eye(), target.centre())
     }
 }
 
@@ -185,7 +186,7 @@ impl Sensor<World> for FriendFoeVision {
         };
         let mut out = Vec::new();
         for (id, b) in w.bodies.iter() {
-            if id == me || !self.can_see(w, &mine, b) {
+            if id == me || !self.can_see(&w.site, &mine, b) {
                 continue;
             }
             let d = dist3(mine.pos, b.pos);
