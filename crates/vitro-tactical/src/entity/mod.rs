@@ -17,10 +17,14 @@ pub mod roads;
 pub mod route;
 pub mod troop;
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-/// A level of fidelity.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+/// A level of fidelity (lower-case in files: `"discrete"`, `"physical"`, ...).
+#[derive(
+    Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, JsonSchema,
+)]
+#[serde(rename_all = "lowercase")]
 pub enum Level {
     /// Nodes of a graph or cells of a grid; moves are events.
     Discrete,

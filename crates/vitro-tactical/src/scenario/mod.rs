@@ -1,0 +1,602 @@
+//! The evacuation mission's scenario file: plain serde types, one per TOML table.
+//!
+//! A scenario names the town and its terrain ([`SiteSpec`]), the three places of the mission
+//! ([`Places`]), the entities by type, side and start ([`EntitySpec`]), the fidelity level of
+//! each entity type ([`FidelitySpec`]) and the settings of the mission, the sensors, the radio
+//! channel and the algorithms. Every table but `[site]`, `[places]`, `[end]` and the
+//! entities has defaults, and unknown keys are errors.
+//!
+//! ```
+//! use vitro_tactical::scenario::{ScenarioFile, EntityType};
+//! use vitro_tactical::entity::Level;
+//!
+//! let text = r#"
+//! name = "tiny"
+//! seed = 7
+//! end = { time_s = 600 }
+//! site = { map = "town.osm.pbf", terrain = "valley.asc" }
+//! places = { start = [0, 0], safehouse = [500, 0], extraction = [0, 500] }
+//! fidelity = { level = "interpolated", truck = "physical" }
+//!
+//! [[entity]]
+//! name = "truck"
+//! type = "truck"
+//! side = "blue"
+//! "#;
+//! let file: ScenarioFile = toml::from_str(text).unwrap();
+//! assert_eq!(file.entities[0].count, 1);
+//! assert_eq!(file.fidelity.level_of(EntityType::Truck), Level::Physical);
+//! assert_eq!(file.fidelity.level_of(EntityType::Vip), Level::Directed);
+//! assert_eq!(file.mission.pickup_s, 30.0);
+//! ```
+
+use crate::entity::Level;
+use crate::sensor::FriendFoeVision;
+use crate::world::Side;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// A whole scenario file of the evacuation mission.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ScenarioFile {
+    /// A short name for reports.
+    pub name: String,
+    /// Master seed of every random stream of the run.
+    pub seed: u64,
+    /// When the run stops.
+    pub end: EndSpec,
+    /// The town and its terrain.
+    pub site: SiteSpec,
+    /// Fidelity level of each entity type.
+    #[serde(default)]
+    pub fidelity: FidelitySpec,
+    /// Start, safehouse and extraction points.
+    pub places: Places,
+    /// The entities, one `[[entity]]` table per group.
+    #[serde(rename = "entity")]
+    pub entities: Vec<EntitySpec>,
+    /// Mission parameters.
+    #[serde(default)]
+    pub mission: MissionSpec,
+    /// Friend-or-foe vision of ground units and aircraft.
+    #[serde(default)]
+    pub sensors: SensorsSpec,
+    /// The simulated radio channel.
+    #[serde(default)]
+    pub channel: ChannelSpec,
+    /// Randomized patrolling of the convoy (Stackelberg game).
+    #[serde(default)]
+    pub patrol: PatrolSpec,
+    /// Pursuit of the high-value target.
+    #[serde(default)]
+    pub pursuit: PursuitSpec,
+    /// Plan repair of the VTOL support team.
+    #[serde(default)]
+    pub repair: RepairSpec,
+    /// Rule-programmed troop formations.
+    #[serde(default)]
+    pub formation: FormationSpec,
+    /// Sampling of the recording.
+    #[serde(default)]
+    pub record: RecordSpec,
+}
+
+/// The end condition.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct EndSpec {
+    /// Simulated seconds after which the run stops, in (0, 1e6].
+    pub time_s: f64,
+}
+
+/// The town and its terrain.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SiteSpec {
+    /// OpenStreetMap extract (.osm.pbf), relative to the scenario file's directory.
+    pub map: PathBuf,
+    /// Elevation model (ESRI ASCII grid or GeoTIFF), relative to the scenario file's directory.
+    pub terrain: PathBuf,
+    /// Shift of the town on the terrain, metres `[east, north]` (none: centred).
+    pub offset: Option<[f64; 2]>,
+}
+
+/// A fidelity preset for every entity type at once.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Preset {
+    /// Every entity at its discrete level.
+    #[default]
+    Discrete,
+    /// Ground vehicles interpolated, troopers directed, the fixed-wing UAV kinematic,
+    /// helicopters discrete.
+    Interpolated,
+    /// Ground vehicles as rigid bodies, troopers directed, the fixed-wing UAV kinematic,
+    /// helicopters with rotor dynamics.
+    Physical,
+}
+
+/// The fidelity level of each entity type: a preset, then an override per type.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct FidelitySpec {
+    /// The preset.
+    pub level: Preset,
+    /// Cargo truck: discrete, interpolated or physical.
+    pub truck: Option<Level>,
+    /// Civilian car: discrete, interpolated or physical.
+    pub car: Option<Level>,
+    /// MDARS UGV: discrete, interpolated or physical.
+    pub ugv: Option<Level>,
+    /// Troopers, the VIP and the HVT: discrete or directed.
+    pub trooper: Option<Level>,
+    /// Procerus fixed-wing UAV: discrete or kinematic.
+    pub procerus: Option<Level>,
+    /// Vidar helicopter UAV: discrete or dynamic.
+    pub vidar: Option<Level>,
+    /// Skeldar helicopter UAV: discrete or dynamic.
+    pub skeldar: Option<Level>,
+}
+
+impl FidelitySpec {
+    /// The level of entity type `t`: its override if given, else the preset's level.
+    pub fn level_of(&self, t: EntityType) -> Level {
+        self.override_of(t)
+            .unwrap_or_else(|| t.preset_level(self.level))
+    }
+
+    /// The override given for `t`'s fidelity key, if any.
+    pub fn override_of(&self, t: EntityType) -> Option<Level> {
+        match t {
+            EntityType::Truck => self.truck,
+            EntityType::Car => self.car,
+            EntityType::Ugv => self.ugv,
+            EntityType::Trooper | EntityType::Vip | EntityType::Hvt => self.trooper,
+            EntityType::Procerus => self.procerus,
+            EntityType::Vidar => self.vidar,
+            EntityType::Skeldar => self.skeldar,
+        }
+    }
+}
+
+/// Start, safehouse and extraction, town metres (x east, y north from the town origin).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Places {
+    /// Where the team sets out.
+    pub start: [f64; 2],
+    /// Where the VIP waits.
+    pub safehouse: [f64; 2],
+    /// Where the VIP is taken.
+    pub extraction: [f64; 2],
+}
+
+/// The type of an entity.
+#[derive(
+    Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, JsonSchema,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum EntityType {
+    /// Cargo truck.
+    Truck,
+    /// Civilian car.
+    Car,
+    /// MDARS unmanned ground vehicle.
+    Ugv,
+    /// Trooper.
+    Trooper,
+    /// The very important person to evacuate (a trooper).
+    Vip,
+    /// The high-value target (a trooper).
+    Hvt,
+    /// Procerus fixed-wing UAV.
+    Procerus,
+    /// Vidar helicopter UAV.
+    Vidar,
+    /// Skeldar helicopter UAV.
+    Skeldar,
+}
+
+impl EntityType {
+    /// Every type, in a fixed order.
+    pub const ALL: [EntityType; 9] = [
+        EntityType::Truck,
+        EntityType::Car,
+        EntityType::Ugv,
+        EntityType::Trooper,
+        EntityType::Vip,
+        EntityType::Hvt,
+        EntityType::Procerus,
+        EntityType::Vidar,
+        EntityType::Skeldar,
+    ];
+
+    /// Lower-case name, as in the file.
+    pub fn name(self) -> &'static str {
+        match self {
+            EntityType::Truck => "truck",
+            EntityType::Car => "car",
+            EntityType::Ugv => "ugv",
+            EntityType::Trooper => "trooper",
+            EntityType::Vip => "vip",
+            EntityType::Hvt => "hvt",
+            EntityType::Procerus => "procerus",
+            EntityType::Vidar => "vidar",
+            EntityType::Skeldar => "skeldar",
+        }
+    }
+
+    /// Whether it flies (and so needs an altitude).
+    pub fn is_aircraft(self) -> bool {
+        matches!(
+            self,
+            EntityType::Procerus | EntityType::Vidar | EntityType::Skeldar
+        )
+    }
+
+    /// Whether it is a ground vehicle.
+    pub fn is_vehicle(self) -> bool {
+        matches!(self, EntityType::Truck | EntityType::Car | EntityType::Ugv)
+    }
+
+    /// Whether it walks (troopers, the VIP, the HVT).
+    pub fn is_trooper(self) -> bool {
+        matches!(
+            self,
+            EntityType::Trooper | EntityType::Vip | EntityType::Hvt
+        )
+    }
+
+    /// The levels this type has, coarsest first.
+    pub fn levels(self) -> &'static [Level] {
+        match self {
+            EntityType::Truck | EntityType::Car | EntityType::Ugv => {
+                &[Level::Discrete, Level::Interpolated, Level::Physical]
+            }
+            EntityType::Trooper | EntityType::Vip | EntityType::Hvt => {
+                &[Level::Discrete, Level::Directed]
+            }
+            EntityType::Procerus => &[Level::Discrete, Level::Kinematic],
+            EntityType::Vidar | EntityType::Skeldar => &[Level::Discrete, Level::Dynamic],
+        }
+    }
+
+    /// The key of `[fidelity]` that sets this type's level.
+    pub fn fidelity_key(self) -> &'static str {
+        if self.is_trooper() {
+            "trooper"
+        } else {
+            self.name()
+        }
+    }
+
+    /// The level `preset` gives this type.
+    pub fn preset_level(self, preset: Preset) -> Level {
+        match preset {
+            Preset::Discrete => Level::Discrete,
+            Preset::Interpolated => {
+                if self.is_vehicle() {
+                    Level::Interpolated
+                } else if self.is_trooper() {
+                    Level::Directed
+                } else if self == EntityType::Procerus {
+                    Level::Kinematic
+                } else {
+                    Level::Discrete
+                }
+            }
+            Preset::Physical => {
+                if self.is_vehicle() {
+                    Level::Physical
+                } else if self.is_trooper() {
+                    Level::Directed
+                } else if self == EntityType::Procerus {
+                    Level::Kinematic
+                } else {
+                    Level::Dynamic
+                }
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for EntityType {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Allegiance of an entity in the file.
+#[derive(
+    Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, JsonSchema,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum SideSpec {
+    /// Own forces.
+    Blue,
+    /// Adversaries.
+    Red,
+    /// Civilians.
+    Neutral,
+}
+
+impl SideSpec {
+    /// The world's side.
+    pub fn side(self) -> Side {
+        match self {
+            SideSpec::Blue => Side::Blue,
+            SideSpec::Red => Side::Red,
+            SideSpec::Neutral => Side::Neutral,
+        }
+    }
+}
+
+impl From<SideSpec> for Side {
+    fn from(s: SideSpec) -> Side {
+        s.side()
+    }
+}
+
+fn one() -> u32 {
+    1
+}
+
+/// A group of entities of one type and side.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct EntitySpec {
+    /// Unique name; a group of `count > 1` is named `name-1`, `name-2`, ...
+    pub name: String,
+    /// Entity type.
+    #[serde(rename = "type")]
+    pub kind: EntityType,
+    /// Allegiance.
+    pub side: SideSpec,
+    /// How many, 1 to 100.
+    #[serde(default = "one")]
+    pub count: u32,
+    /// Start, town metres `[x, y]`; none: placed by the mission.
+    pub start: Option<[f64; 2]>,
+    /// Flight altitude above the ground, metres, 20 to 3000 (aircraft only).
+    pub altitude_m: Option<f64>,
+}
+
+/// Mission parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct MissionSpec {
+    /// Time to get the VIP on board at the safehouse, seconds.
+    pub pickup_s: f64,
+    /// When the HVT appears, seconds after the start.
+    pub hvt_appear_s: f64,
+    /// How many troopers split off to pursue the HVT.
+    pub hvt_pursuers: u32,
+    /// A pursuer within this distance of the HVT captures it, metres.
+    pub capture_range_m: f64,
+    /// Red attacks a blue unit it sees within this distance, metres.
+    pub attack_range_m: f64,
+    /// Time a red attacker aims before it fires, seconds.
+    pub attack_aim_s: f64,
+    /// Probability that an attack hits, in [0, 1].
+    pub hit_probability: f64,
+    /// A team member within this distance of a friendly watcher is covered, metres.
+    pub cover_radius_m: f64,
+}
+
+impl Default for MissionSpec {
+    fn default() -> Self {
+        MissionSpec {
+            pickup_s: 30.0,
+            hvt_appear_s: 600.0,
+            hvt_pursuers: 2,
+            capture_range_m: 15.0,
+            attack_range_m: 150.0,
+            attack_aim_s: 15.0,
+            hit_probability: 0.3,
+            cover_radius_m: 200.0,
+        }
+    }
+}
+
+/// Friend-or-foe vision settings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VisionSpec {
+    /// Range, metres.
+    pub range_m: f64,
+    /// Field of view, degrees, in (0, 360].
+    pub fov_deg: f64,
+    /// Detection probability at distance 0, in [0, 1].
+    pub p0: f64,
+    /// Fall-off exponent of the detection probability with distance, ≥ 0.
+    pub falloff: f64,
+    /// Probability of reporting the wrong side, in [0, 1].
+    pub misidentification: f64,
+}
+
+impl VisionSpec {
+    /// The sensor model.
+    pub fn vision(&self) -> FriendFoeVision {
+        FriendFoeVision {
+            range: self.range_m,
+            half_fov: (self.fov_deg / 2.0).to_radians(),
+            p0: self.p0,
+            k: self.falloff,
+            misidentification: self.misidentification,
+        }
+    }
+}
+
+/// The sensors.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct SensorsSpec {
+    /// Time between two looks of each sensor, seconds.
+    pub period_s: f64,
+    /// Vision of ground units.
+    pub ground: VisionSpec,
+    /// Vision of aircraft.
+    pub air: VisionSpec,
+}
+
+impl Default for SensorsSpec {
+    fn default() -> Self {
+        SensorsSpec {
+            period_s: 1.0,
+            ground: VisionSpec {
+                range_m: 300.0,
+                fov_deg: 120.0,
+                p0: 0.95,
+                falloff: 1.0,
+                misidentification: 0.05,
+            },
+            air: VisionSpec {
+                range_m: 600.0,
+                fov_deg: 360.0,
+                p0: 0.9,
+                falloff: 1.0,
+                misidentification: 0.1,
+            },
+        }
+    }
+}
+
+/// The simulated radio channel.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct ChannelSpec {
+    /// Mean delivery delay, milliseconds.
+    pub delay_ms: f64,
+    /// Delay jitter, milliseconds.
+    pub jitter_ms: f64,
+    /// Probability that a message is lost, in [0, 1].
+    pub loss: f64,
+    /// Radio range, metres.
+    pub range_m: f64,
+}
+
+impl Default for ChannelSpec {
+    fn default() -> Self {
+        ChannelSpec {
+            delay_ms: 20.0,
+            jitter_ms: 30.0,
+            loss: 0.05,
+            range_m: 3000.0,
+        }
+    }
+}
+
+/// Randomized patrolling of the convoy.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct PatrolSpec {
+    /// Duration of one patrol step, seconds.
+    pub step_s: f64,
+    /// Steps an attacker needs to complete an attack.
+    pub attack_steps: u32,
+    /// Steps of the patrol route the game looks ahead.
+    pub horizon: u32,
+}
+
+impl Default for PatrolSpec {
+    fn default() -> Self {
+        PatrolSpec {
+            step_s: 20.0,
+            attack_steps: 3,
+            horizon: 8,
+        }
+    }
+}
+
+/// The game-tree search that pursues the HVT.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum PursuitAlgorithm {
+    /// Information-set Monte Carlo tree search.
+    #[default]
+    Mcts,
+    /// Iterative-deepening minimax.
+    Minimax,
+}
+
+/// Pursuit of the HVT.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct PursuitSpec {
+    /// The search.
+    pub algorithm: PursuitAlgorithm,
+    /// Iterations per decision.
+    pub budget: u32,
+    /// Simulated thinking time charged per iteration, microseconds.
+    pub think_us_per_iteration: f64,
+}
+
+impl Default for PursuitSpec {
+    fn default() -> Self {
+        PursuitSpec {
+            algorithm: PursuitAlgorithm::Mcts,
+            budget: 500,
+            think_us_per_iteration: 20.0,
+        }
+    }
+}
+
+/// How the VTOL team's plan is repaired.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum RepairStrategy {
+    /// Plan again from scratch.
+    Replan,
+    /// Plan back to the broken plan's state, then follow it.
+    BackOnTrack,
+    /// Plan only to the broken action's goal.
+    Lazy,
+    /// Lazy repair, widened step by step.
+    #[default]
+    RepeatedLazy,
+}
+
+/// Plan repair of the VTOL support team.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct RepairSpec {
+    /// The strategy.
+    pub strategy: RepairStrategy,
+    /// Deepest repair tried before replanning (none: no limit).
+    pub max_depth: Option<u32>,
+}
+
+/// Troop formations.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct FormationSpec {
+    /// Rule file, relative to the scenario file's directory (none: the built-in rules).
+    pub program: Option<PathBuf>,
+    /// Spacing between troopers, metres.
+    pub spacing_m: f64,
+}
+
+impl Default for FormationSpec {
+    fn default() -> Self {
+        FormationSpec {
+            program: None,
+            spacing_m: 5.0,
+        }
+    }
+}
+
+/// Recording.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct RecordSpec {
+    /// Time between two recorded frames, seconds.
+    pub sample_s: f64,
+}
+
+impl Default for RecordSpec {
+    fn default() -> Self {
+        RecordSpec { sample_s: 1.0 }
+    }
+}
