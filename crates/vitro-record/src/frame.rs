@@ -76,7 +76,10 @@ pub struct MessageEvent {
 }
 
 /// An agent's current intention and plan, as the agent states it.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+///
+/// Only `id` and `text` are needed; the other fields are optional views of the agent's mind
+/// (empty when the agent has nothing to show), so build one with `..Default::default()`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Intention {
     /// The agent.
     pub id: u32,
@@ -86,6 +89,35 @@ pub struct Intention {
     pub plan: Vec<String>,
     /// The path it means to follow, world metres (may be empty).
     pub path: Vec<[f64; 3]>,
+    /// The plan as first made, when `plan` is a repair of it (empty if never repaired).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub original_plan: Vec<String>,
+    /// The path of the original plan, when `path` is a repair of it (may be empty).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub original_path: Vec<[f64; 3]>,
+    /// A policy over places as weights (e.g. a patroller's visit probabilities), world metres;
+    /// any non-negative scale, the viewer draws it relative to the largest weight.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub heat: Vec<([f64; 3], f64)>,
+    /// Where the agent believes its quarry is (e.g. a pursuer's belief about the evader), as
+    /// weighted places, world metres; any non-negative scale.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub belief: Vec<([f64; 3], f64)>,
+}
+
+/// What one sensor covers this instant: a sector around its entity.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SensorFootprint {
+    /// The entity carrying the sensor (the sector is centred on its position).
+    pub id: u32,
+    /// What it is (e.g. `"camera"`, `"proximity"`).
+    pub kind: String,
+    /// Range, metres.
+    pub range: f64,
+    /// Direction of the sector's axis, radians counter-clockwise from east.
+    pub heading: f64,
+    /// Full opening angle, radians (2π or more: all around).
+    pub fov: f64,
 }
 
 /// Everything that changes, at one sampled instant.
@@ -103,6 +135,9 @@ pub struct Frame {
     pub messages: Vec<MessageEvent>,
     /// Intentions of the agents that state one.
     pub intentions: Vec<Intention>,
+    /// Sensor coverage this instant (optional: empty when not recorded).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sensors: Vec<SensorFootprint>,
     /// Mission metrics so far (name → value).
     pub metrics: BTreeMap<String, f64>,
     /// A one-line account of what happened since the previous frame, if anything did
