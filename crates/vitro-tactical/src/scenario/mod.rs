@@ -30,6 +30,15 @@
 //! assert_eq!(file.mission.pickup_s, 30.0);
 //! ```
 
+mod check;
+mod kind;
+mod load;
+mod span;
+
+pub use check::{ALTITUDE_M, MAX_COUNT, MAX_END_S};
+pub use load::{Loaded, TOP_LEVEL_KEYS, Validated};
+pub use span::{Diagnostic, Diagnostics, SourceMap};
+
 use crate::entity::Level;
 use crate::sensor::FriendFoeVision;
 use crate::world::Side;
@@ -100,6 +109,7 @@ pub struct SiteSpec {
     /// Elevation model (ESRI ASCII grid or GeoTIFF), relative to the scenario file's directory.
     pub terrain: PathBuf,
     /// Shift of the town on the terrain, metres `[east, north]` (none: centred).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub offset: Option<[f64; 2]>,
 }
 
@@ -125,18 +135,25 @@ pub struct FidelitySpec {
     /// The preset.
     pub level: Preset,
     /// Cargo truck: discrete, interpolated or physical.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub truck: Option<Level>,
     /// Civilian car: discrete, interpolated or physical.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub car: Option<Level>,
     /// MDARS UGV: discrete, interpolated or physical.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub ugv: Option<Level>,
     /// Troopers, the VIP and the HVT: discrete or directed.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub trooper: Option<Level>,
     /// Procerus fixed-wing UAV: discrete or kinematic.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub procerus: Option<Level>,
     /// Vidar helicopter UAV: discrete or dynamic.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub vidar: Option<Level>,
     /// Skeldar helicopter UAV: discrete or dynamic.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub skeldar: Option<Level>,
 }
 
@@ -199,115 +216,6 @@ pub enum EntityType {
     Skeldar,
 }
 
-impl EntityType {
-    /// Every type, in a fixed order.
-    pub const ALL: [EntityType; 9] = [
-        EntityType::Truck,
-        EntityType::Car,
-        EntityType::Ugv,
-        EntityType::Trooper,
-        EntityType::Vip,
-        EntityType::Hvt,
-        EntityType::Procerus,
-        EntityType::Vidar,
-        EntityType::Skeldar,
-    ];
-
-    /// Lower-case name, as in the file.
-    pub fn name(self) -> &'static str {
-        match self {
-            EntityType::Truck => "truck",
-            EntityType::Car => "car",
-            EntityType::Ugv => "ugv",
-            EntityType::Trooper => "trooper",
-            EntityType::Vip => "vip",
-            EntityType::Hvt => "hvt",
-            EntityType::Procerus => "procerus",
-            EntityType::Vidar => "vidar",
-            EntityType::Skeldar => "skeldar",
-        }
-    }
-
-    /// Whether it flies (and so needs an altitude).
-    pub fn is_aircraft(self) -> bool {
-        matches!(
-            self,
-            EntityType::Procerus | EntityType::Vidar | EntityType::Skeldar
-        )
-    }
-
-    /// Whether it is a ground vehicle.
-    pub fn is_vehicle(self) -> bool {
-        matches!(self, EntityType::Truck | EntityType::Car | EntityType::Ugv)
-    }
-
-    /// Whether it walks (troopers, the VIP, the HVT).
-    pub fn is_trooper(self) -> bool {
-        matches!(
-            self,
-            EntityType::Trooper | EntityType::Vip | EntityType::Hvt
-        )
-    }
-
-    /// The levels this type has, coarsest first.
-    pub fn levels(self) -> &'static [Level] {
-        match self {
-            EntityType::Truck | EntityType::Car | EntityType::Ugv => {
-                &[Level::Discrete, Level::Interpolated, Level::Physical]
-            }
-            EntityType::Trooper | EntityType::Vip | EntityType::Hvt => {
-                &[Level::Discrete, Level::Directed]
-            }
-            EntityType::Procerus => &[Level::Discrete, Level::Kinematic],
-            EntityType::Vidar | EntityType::Skeldar => &[Level::Discrete, Level::Dynamic],
-        }
-    }
-
-    /// The key of `[fidelity]` that sets this type's level.
-    pub fn fidelity_key(self) -> &'static str {
-        if self.is_trooper() {
-            "trooper"
-        } else {
-            self.name()
-        }
-    }
-
-    /// The level `preset` gives this type.
-    pub fn preset_level(self, preset: Preset) -> Level {
-        match preset {
-            Preset::Discrete => Level::Discrete,
-            Preset::Interpolated => {
-                if self.is_vehicle() {
-                    Level::Interpolated
-                } else if self.is_trooper() {
-                    Level::Directed
-                } else if self == EntityType::Procerus {
-                    Level::Kinematic
-                } else {
-                    Level::Discrete
-                }
-            }
-            Preset::Physical => {
-                if self.is_vehicle() {
-                    Level::Physical
-                } else if self.is_trooper() {
-                    Level::Directed
-                } else if self == EntityType::Procerus {
-                    Level::Kinematic
-                } else {
-                    Level::Dynamic
-                }
-            }
-        }
-    }
-}
-
-impl std::fmt::Display for EntityType {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
 /// Allegiance of an entity in the file.
 #[derive(
     Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, JsonSchema,
@@ -358,9 +266,25 @@ pub struct EntitySpec {
     #[serde(default = "one")]
     pub count: u32,
     /// Start, town metres `[x, y]`; none: placed by the mission.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub start: Option<[f64; 2]>,
     /// Flight altitude above the ground, metres, 20 to 3000 (aircraft only).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub altitude_m: Option<f64>,
+}
+
+impl EntitySpec {
+    /// The names of the group's entities: `name` alone, or `name-1` ... `name-N` for a
+    /// group of `count = N > 1`.
+    pub fn names(&self) -> Vec<String> {
+        if self.count == 1 {
+            vec![self.name.clone()]
+        } else {
+            (1..=self.count)
+                .map(|i| format!("{}-{i}", self.name))
+                .collect()
+        }
+    }
 }
 
 /// Mission parameters.
@@ -565,6 +489,7 @@ pub struct RepairSpec {
     /// The strategy.
     pub strategy: RepairStrategy,
     /// Deepest repair tried before replanning (none: no limit).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub max_depth: Option<u32>,
 }
 
@@ -573,6 +498,7 @@ pub struct RepairSpec {
 #[serde(default, deny_unknown_fields)]
 pub struct FormationSpec {
     /// Rule file, relative to the scenario file's directory (none: the built-in rules).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub program: Option<PathBuf>,
     /// Spacing between troopers, metres.
     pub spacing_m: f64,
@@ -599,4 +525,16 @@ impl Default for RecordSpec {
     fn default() -> Self {
         RecordSpec { sample_s: 1.0 }
     }
+}
+
+/// The JSON Schema of scenario files (draft 7, for editors): what
+/// `scenarios/scenario.schema.json` holds, pretty-printed.
+///
+/// ```
+/// let schema = vitro_tactical::scenario::json_schema();
+/// assert_eq!(schema.get("title").and_then(|t| t.as_str()), Some("ScenarioFile"));
+/// ```
+pub fn json_schema() -> schemars::Schema {
+    let generator = schemars::generate::SchemaSettings::draft07().into_generator();
+    generator.into_root_schema_for::<ScenarioFile>()
 }

@@ -1,0 +1,300 @@
+//! Reading a scenario file: the TOML syntax, then the types, then the checks.
+//!
+//! Every stage reports every problem it finds: all syntax errors the parser recovers from;
+//! then, if the whole document does not fit the types, each top-level key and each
+//! `[[entity]]` on its own; then the semantic checks of [`check`](super::check).
+
+use super::check::{check_file, check_site};
+use super::span::{Diagnostic, Diagnostics, SourceMap};
+use super::{
+    ChannelSpec, EndSpec, EntitySpec, FidelitySpec, FormationSpec, MissionSpec, PatrolSpec, Places,
+    PursuitSpec, RecordSpec, RepairSpec, ScenarioFile, SensorsSpec, SiteSpec,
+};
+use crate::map::{MapConfig, TownMap};
+use crate::site::{Site, SiteConfig};
+use crate::terrain::Terrain;
+use serde::Deserialize as _;
+use serde::de::DeserializeOwned;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+use toml::de::{DeTable, DeValue, ValueDeserializer};
+
+/// The keys of a scenario file's top level, in the order of [`ScenarioFile`]'s fields.
+pub const TOP_LEVEL_KEYS: [&str; 15] = [
+    "name",
+    "seed",
+    "end",
+    "site",
+    "fidelity",
+    "places",
+    "entity",
+    "mission",
+    "sensors",
+    "channel",
+    "patrol",
+    "pursuit",
+    "repair",
+    "formation",
+    "record",
+];
+
+/// A scenario file read and checked, with its paths resolved.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The scenario.
+    pub file: ScenarioFile,
+    /// The scenario file's path, as it was named.
+    pub path: PathBuf,
+    /// The map, absolute.
+    pub map: PathBuf,
+    /// The terrain, absolute.
+    pub terrain: PathBuf,
+    /// The formation rule file, absolute (none: the built-in rules).
+    pub program: Option<PathBuf>,
+    /// The file's text.
+    pub source: String,
+}
+
+/// A scenario file read and checked against its site, with the site built.
+#[derive(Debug)]
+pub struct Validated {
+    /// The file.
+    pub loaded: Loaded,
+    /// The town on its terrain at the scenario's offset.
+    pub site: Site,
+}
+
+impl ScenarioFile {
+    /// Reads the scenario at `path` and checks everything that does not need the site:
+    /// syntax, types, ranges, files, fidelity levels, entity names and altitudes, and the
+    /// entities the mission needs. Paths in the file are relative to its directory.
+    ///
+    /// ```
+    /// use vitro_tactical::scenario::ScenarioFile;
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios/evacuation.toml");
+    /// let loaded = ScenarioFile::load(path).unwrap();
+    /// assert!(loaded.map.ends_with("data/maps/kotka.osm.pbf"));
+    /// assert!(loaded.map.is_absolute());
+    /// ```
+    pub fn load(path: impl AsRef<Path>) -> Result<Loaded, Diagnostics> {
+        let (loaded, problems) = read(path.as_ref())?;
+        if problems.is_empty() {
+            Ok(loaded)
+        } else {
+            Err(Diagnostics::new(problems))
+        }
+    }
+
+    /// [`load`](Self::load), then builds the site and checks the places and the entities'
+    /// starts against it (inside the town, not in a building or forbidden zone). Reports
+    /// every problem of both stages together.
+    pub fn validate(path: impl AsRef<Path>) -> Result<Validated, Diagnostics> {
+        let (loaded, mut problems) = read(path.as_ref())?;
+        if loaded.map.is_file() && loaded.terrain.is_file() {
+            match loaded.site() {
+                Ok(site) => {
+                    let map = SourceMap::new(&loaded.path, &loaded.source);
+                    problems.extend(check_site(&loaded.file, &site, &map));
+                    if problems.is_empty() {
+                        return Ok(Validated { loaded, site });
+                    }
+                }
+                Err(d) => problems.extend(d.0),
+            }
+        }
+        Err(Diagnostics::new(problems))
+    }
+}
+
+impl Loaded {
+    /// Builds the town on its terrain at the scenario's offset; problems point at `[site]`.
+    pub fn site(&self) -> Result<Site, Diagnostics> {
+        let map = SourceMap::new(&self.path, &self.source);
+        let town = TownMap::load(&self.map, &MapConfig::default()).map_err(|e| {
+            one(map.at(
+                "site.map",
+                format!("cannot load the map: {e}"),
+                "an OpenStreetMap .osm.pbf file",
+            ))
+        })?;
+        let ground = Terrain::load(&self.terrain).map_err(|e| {
+            one(map.at(
+                "site.terrain",
+                format!("cannot load the terrain: {e}"),
+                "an ESRI ASCII grid (.asc) or a GeoTIFF",
+            ))
+        })?;
+        let config = SiteConfig {
+            offset: self.file.site.offset,
+            ..SiteConfig::default()
+        };
+        Site::new(town, ground, &config).map_err(|e| {
+            let key = if self.file.site.offset.is_some() {
+                "site.offset"
+            } else {
+                "site.terrain"
+            };
+            one(map.at(
+                key,
+                format!("cannot set the town on the terrain: {e}"),
+                "an offset that keeps the whole town on the terrain",
+            ))
+        })
+    }
+}
+
+fn one(d: Diagnostic) -> Diagnostics {
+    Diagnostics(vec![d])
+}
+
+/// Reads, parses and checks the file: the scenario with the problems found, or the problems
+/// that stopped the parse.
+fn read(path: &Path) -> Result<(Loaded, Vec<Diagnostic>), Diagnostics> {
+    let source = std::fs::read_to_string(path).map_err(|e| {
+        one(Diagnostic::new(
+            path,
+            "",
+            None,
+            format!("cannot read the scenario: {e}"),
+            Some("a readable TOML file".into()),
+        ))
+    })?;
+    let file = parse(path, &source).map_err(Diagnostics::new)?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let resolve = |p: &Path| {
+        let joined = dir.join(p);
+        joined
+            .canonicalize()
+            .or_else(|_| std::path::absolute(&joined))
+            .unwrap_or(joined)
+    };
+    let loaded = Loaded {
+        map: resolve(&file.site.map),
+        terrain: resolve(&file.site.terrain),
+        program: file.formation.program.as_deref().map(resolve),
+        file,
+        path: path.to_path_buf(),
+        source,
+    };
+    let problems = {
+        let map = SourceMap::new(&loaded.path, &loaded.source);
+        check_file(&loaded, &map)
+    };
+    Ok((loaded, problems))
+}
+
+/// Parses `text` into a scenario, or every syntax or type error found.
+pub(crate) fn parse(file: &Path, text: &str) -> Result<ScenarioFile, Vec<Diagnostic>> {
+    let (root, errors) = DeTable::parse_recoverable(text);
+    if !errors.is_empty() {
+        return Err(errors.iter().map(|e| from_toml(file, text, e)).collect());
+    }
+    let whole = match ScenarioFile::deserialize(toml::de::Deserializer::from(root.clone())) {
+        Ok(scenario) => return Ok(scenario),
+        Err(e) => from_toml(file, text, &e),
+    };
+    // The first error hides the others: try each part on its own.
+    let mut out = Vec::new();
+    let table = root.get_ref();
+    for (key, value) in table.iter() {
+        let v = value.clone();
+        let result = match key.get_ref().as_ref() {
+            "name" => part::<String>(v),
+            "seed" => part::<u64>(v),
+            "end" => part::<EndSpec>(v),
+            "site" => part::<SiteSpec>(v),
+            "fidelity" => part::<FidelitySpec>(v),
+            "places" => part::<Places>(v),
+            "entity" => match v.get_ref() {
+                DeValue::Array(items) => {
+                    for item in items {
+                        if let Err(e) = part::<EntitySpec>(item.clone()) {
+                            out.push(from_toml(file, text, &e));
+                        }
+                    }
+                    Ok(())
+                }
+                _ => part::<Vec<EntitySpec>>(v),
+            },
+            "mission" => part::<MissionSpec>(v),
+            "sensors" => part::<SensorsSpec>(v),
+            "channel" => part::<ChannelSpec>(v),
+            "patrol" => part::<PatrolSpec>(v),
+            "pursuit" => part::<PursuitSpec>(v),
+            "repair" => part::<RepairSpec>(v),
+            "formation" => part::<FormationSpec>(v),
+            "record" => part::<RecordSpec>(v),
+            other => {
+                out.push(Diagnostic::new(
+                    file,
+                    text,
+                    Some(key.span()),
+                    format!("unknown field `{other}`"),
+                    Some(one_of(&TOP_LEVEL_KEYS)),
+                ));
+                Ok(())
+            }
+        };
+        if let Err(e) = result {
+            out.push(from_toml(file, text, &e));
+        }
+    }
+    for key in ["name", "seed", "end", "site", "places", "entity"] {
+        if !table.contains_key(key) {
+            let what = if key == "entity" {
+                "at least one `[[entity]]` table".to_owned()
+            } else {
+                format!("a top-level `{key}`")
+            };
+            out.push(Diagnostic::new(
+                file,
+                text,
+                Some(0..0),
+                format!("missing field `{key}`"),
+                Some(what),
+            ));
+        }
+    }
+    if out.is_empty() {
+        out.push(whole);
+    }
+    Err(out)
+}
+
+/// Deserializes one part of the document on its own.
+fn part<T: DeserializeOwned>(value: Spanned<DeValue<'_>>) -> Result<(), toml::de::Error> {
+    T::deserialize(ValueDeserializer::from(value)).map(|_| ())
+}
+
+/// "one of `a`, `b`, `c`".
+fn one_of(keys: &[&str]) -> String {
+    let keys: Vec<String> = keys.iter().map(|k| format!("`{k}`")).collect();
+    format!("one of {}", keys.join(", "))
+}
+
+/// A toml error as a diagnostic: its message split into what is wrong and what was expected.
+fn from_toml(file: &Path, text: &str, e: &toml::de::Error) -> Diagnostic {
+    let message = e.message().trim();
+    let (what, expected) = match message.split_once(", expected ") {
+        Some((what, exp)) => (what.to_owned(), Some(plain(exp))),
+        None => match message.split_once("\nexpected ") {
+            Some((what, exp)) => (what.to_owned(), Some(exp.to_owned())),
+            None => (message.replace('\n', "; "), None),
+        },
+    };
+    let expected = expected.or_else(|| {
+        let key = what.strip_prefix("missing field `")?.strip_suffix('`')?;
+        Some(format!("a key `{key}` in this table"))
+    });
+    Diagnostic::new(file, text, e.span(), what, expected)
+}
+
+/// Rust type names in serde's messages, in words.
+fn plain(expected: &str) -> String {
+    match expected {
+        "f64" => "a number".to_owned(),
+        "u32" => "a whole number in 0..=4294967295".to_owned(),
+        "u64" => "a whole number, 0 or more".to_owned(),
+        other => other.to_owned(),
+    }
+}
