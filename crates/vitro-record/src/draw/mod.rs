@@ -279,44 +279,64 @@ pub fn intentions_update(frame: &Frame) -> SceneUpdate {
 }
 
 /// `/sensors`: each sensor's footprint as the outline of its sector (a circle when it sees
-/// all around), in its carrier's colour.
+/// all around), one indexed line list per side, in the side's colour.
 pub fn sensors_update(frame: &Frame) -> SceneUpdate {
     let mut update = SceneUpdate {
         deletions: vec![SceneEntityDeletion::all(frame.t_ns)],
         entities: Vec::new(),
     };
-    let mut points = Vec::new();
-    let mut colors = Vec::new();
+    let sides = [Side::Friendly, Side::Hostile, Side::Neutral, Side::Unknown];
+    let mut by_side: [LinePrimitive; 4] = sides.map(|side| {
+        lines(
+            LineType::List,
+            Vec::new(),
+            1.0,
+            true,
+            side_color(side).alpha(0.5),
+        )
+    });
     for s in &frame.sensors {
         let Some(e) = find(frame, s.id) else {
             continue;
         };
-        let c = side_color(e.side).alpha(0.5);
+        let Some(line) = sides
+            .iter()
+            .position(|&x| x == e.side)
+            .map(|k| &mut by_side[k])
+        else {
+            continue;
+        };
         let o = [e.pos[0], e.pos[1], e.pos[2] + 0.5];
-        let at = |a: f64| Vector3::mm([o[0] + s.range * a.cos(), o[1] + s.range * a.sin(), o[2]]);
         let full = s.fov >= std::f64::consts::TAU;
         let fov = s.fov.clamp(0.0, std::f64::consts::TAU);
-        let (start, steps) = (s.heading - fov / 2.0, if full { 24 } else { 12 });
-        let arc: Vec<Vector3> = (0..=steps)
-            .map(|k| at(start + fov * f64::from(k) / f64::from(steps)))
-            .collect();
-        let mut segment = |a: Vector3, b: Vector3| {
-            points.extend([a, b]);
-            colors.extend([c, c]);
+        let (start, steps) = (s.heading - fov / 2.0, if full { 24u32 } else { 8 });
+        let Ok(first) = u32::try_from(line.points.len()) else {
+            break;
         };
-        for w in arc.windows(2) {
-            segment(w[0], w[1]);
+        // The centre, then the arc; segments by index: centre-arc-...-arc-centre.
+        line.points.push(Vector3::mm(o));
+        for k in 0..=steps {
+            let a = start + fov * f64::from(k) / f64::from(steps);
+            let (x, y) = (o[0] + s.range * a.cos(), o[1] + s.range * a.sin());
+            line.points.push(Vector3::mm([x, y, o[2]]));
         }
         if !full {
-            segment(Vector3::mm(o), arc[0]);
-            segment(Vector3::mm(o), arc[steps as usize]);
+            line.indices.extend([first, first + 1]);
+        }
+        for k in 1..=steps {
+            line.indices.extend([first + k, first + k + 1]);
+        }
+        if !full {
+            line.indices.extend([first + steps + 1, first]);
         }
     }
-    if !points.is_empty() {
-        let mut line = lines(LineType::List, points, 1.0, true, Color::rgb(1.0, 1.0, 1.0));
-        line.colors = colors;
+    let drawn: Vec<LinePrimitive> = by_side
+        .into_iter()
+        .filter(|l| !l.points.is_empty())
+        .collect();
+    if !drawn.is_empty() {
         let mut e = SceneEntity::new(frame.t_ns, "sensors");
-        e.lines.push(line);
+        e.lines = drawn;
         e.metadata.push(kv("count", frame.sensors.len()));
         update.entities.push(e);
     }
@@ -448,13 +468,21 @@ mod tests {
             .clone();
         let update = sensors_update(&f);
         let line = &update.entities[0].lines[0];
-        // 12 arc segments and two radii, two points each.
-        assert_eq!(line.points.len(), 2 * 14);
-        let far = line.points[..24]
-            .iter()
-            .map(|p| ((p.x - e.pos[0]).powi(2) + (p.y - e.pos[1]).powi(2)).sqrt())
-            .fold(0.0f64, f64::max);
-        assert!((far - f.sensors[0].range).abs() < 0.01, "{far}");
+        assert_eq!(line.color, side_color(e.side).alpha(0.5));
+        // The centre and 9 arc points; 8 arc segments and two radii, by index.
+        assert_eq!(line.points.len(), 10);
+        assert_eq!(line.indices.len(), 2 * 10);
+        assert!(line.indices.iter().all(|&i| i < 10));
+        let dist = |p: &Vector3| ((p.x - e.pos[0]).powi(2) + (p.y - e.pos[1]).powi(2)).sqrt();
+        assert!(dist(&line.points[0]) < 1e-3);
+        for p in &line.points[1..] {
+            assert!((dist(p) - f.sensors[0].range).abs() < 0.01);
+        }
+        // All around: a closed circle, no radii.
+        f.sensors[0].fov = 7.0;
+        let circle = sensors_update(&f).entities[0].lines[0].clone();
+        assert_eq!(circle.indices.len(), 2 * 24);
+        assert_eq!(circle.indices.last(), Some(&25));
         f.sensors.clear();
         assert!(sensors_update(&f).entities.is_empty());
     }
