@@ -295,6 +295,8 @@ fn plain(expected: &str) -> String {
         "f64" => "a number".to_owned(),
         "u32" => "a whole number in 0..=4294967295".to_owned(),
         "u64" => "a whole number, 0 or more".to_owned(),
+        "a sequence" => "an array".to_owned(),
+        other if other.starts_with("struct ") => "a table".to_owned(),
         other => other.to_owned(),
     }
 }
