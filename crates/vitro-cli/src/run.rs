@@ -1,4 +1,5 @@
-//! `vitro run` and `vitro validate`: the demo scenario until the mission exists.
+//! `vitro run` and `vitro validate` of the patrolling-cars demo; mission scenarios go to
+//! [`crate::mission`].
 
 use crate::Failure;
 use anyhow::Context as _;
@@ -11,24 +12,31 @@ use vitro_demo::{DemoError, Metrics, Scenario};
 
 #[derive(Debug, Args)]
 pub(crate) struct RunArgs {
-    /// The scenario file (TOML).
-    scenario: PathBuf,
+    /// The scenario file (TOML): a mission scenario (e.g. scenarios/evacuation.toml) or the
+    /// patrolling-cars demo (scenarios/demo.toml).
+    pub(crate) scenario: PathBuf,
     /// Master seed (overrides the scenario's).
     #[arg(long)]
-    seed: Option<u64>,
-    /// Simulated seconds to run (overrides the scenario's `end_s`).
+    pub(crate) seed: Option<u64>,
+    /// Simulated seconds to run at most (overrides the scenario's end time).
     #[arg(long, value_name = "SECONDS")]
-    until: Option<f64>,
+    pub(crate) until: Option<f64>,
     /// Paces the run at X simulated seconds per wall second (0.1 to 1000); default: as fast
     /// as possible. Pacing never changes the outcome.
     #[arg(long, value_name = "X")]
-    speed: Option<f64>,
+    pub(crate) speed: Option<f64>,
+    /// Records the run to an MCAP file (Foxglove schemas) — mission scenarios only.
+    #[arg(long, value_name = "FILE.mcap")]
+    pub(crate) record: Option<PathBuf>,
     /// Prints one JSON object on stdout instead of the summary.
     #[arg(long)]
-    json: bool,
+    pub(crate) json: bool,
     /// Prints only the trace hash (or only the JSON object with --json).
     #[arg(long)]
-    quiet: bool,
+    pub(crate) quiet: bool,
+    /// Tells more on stderr (mission log lines as they happen).
+    #[arg(short, long)]
+    pub(crate) verbose: bool,
 }
 
 /// What `vitro run --json` prints.
@@ -68,6 +76,14 @@ pub(crate) fn validate(path: &std::path::Path) -> Result<(), Failure> {
 }
 
 pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
+    if crate::mission::is_mission(&args.scenario) {
+        return crate::mission::run(args);
+    }
+    if args.record.is_some() {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "--record: only mission scenarios can be recorded"
+        )));
+    }
     let mut cfg = load(&args.scenario)?;
     if let Some(seed) = args.seed {
         cfg.seed = seed;

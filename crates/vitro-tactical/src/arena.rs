@@ -12,6 +12,7 @@
 //! rigid-body physics, one for the aircraft. A clock runs only while something it moves is
 //! moving, so a run whose bodies have all arrived runs out of events.
 
+use crate::condition::Condition;
 use crate::entity::air::{
     AirKind, Lattice, LatticeBody, Pilot, ctol::CtolBody, dir_of, vtol::VtolBody,
 };
@@ -141,6 +142,8 @@ pub struct Arena {
     pub vtol: EntityStorage<VtolBody>,
     /// Autopilot state of every aircraft.
     pub pilots: EntityStorage<Pilot>,
+    /// Role, side and state of the entities that have one (sensors and mission actuators).
+    pub conditions: EntityStorage<Condition>,
     running: [bool; 3],
 }
 
@@ -169,6 +172,7 @@ impl Arena {
             ctol: EntityStorage::default(),
             vtol: EntityStorage::default(),
             pilots: EntityStorage::default(),
+            conditions: EntityStorage::default(),
             running: [false; 3],
         }
     }
@@ -278,6 +282,21 @@ impl Arena {
             other => return Err(PlaceError::Level(other)),
         }
         Ok(())
+    }
+
+    /// Takes a trooper's body out of the arena (it boards a vehicle); refused (false) if it
+    /// has no trooper body or is under way.
+    pub fn remove_trooper(&mut self, id: EntityId) -> bool {
+        let at_rest = match (self.at_node.get(id), self.walkers.get(id)) {
+            (Some(b), _) => matches!(b.kind, NodeKind::Troop(_)) && b.trip.is_none(),
+            (None, Some(w)) => w.cmd.is_none() && !self.follow.contains(id),
+            (None, None) => false,
+        };
+        if at_rest {
+            self.at_node.remove(id);
+            self.walkers.remove(id);
+        }
+        at_rest
     }
 
     /// Places a fixed-wing aircraft of `kind` at world point `pos` at `level` (discrete or
@@ -464,6 +483,7 @@ impl Arena {
             self.ctol.digest(),
             self.vtol.digest(),
             self.pilots.digest(),
+            self.conditions.digest(),
         ] {
             h.write_u64(d);
         }

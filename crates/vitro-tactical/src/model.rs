@@ -62,6 +62,23 @@ impl<T: Any> AsAny for T {
 pub trait Controller: AsAny {
     /// Reacts to one input.
     fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>);
+    /// What the agent says it is doing, for viewers and recordings (never read by the
+    /// simulation itself).
+    fn intention(&self) -> Option<Intention> {
+        None
+    }
+}
+
+/// An agent's statement of what it is doing: a line of text, the steps of its current plan
+/// and the path it means to follow.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Intention {
+    /// One line, e.g. `"drive to the safehouse (leg 2/5)"`.
+    pub text: String,
+    /// The steps of its current plan, if it has one.
+    pub plan: Vec<String>,
+    /// The path it means to follow, world metres.
+    pub path: Vec<[f64; 3]>,
 }
 
 impl Agent<Tactical> for Box<dyn Controller> {
@@ -80,8 +97,14 @@ impl Model for Tactical {
         run_env_event(env, event, fx);
     }
 
+    /// Where a radio is: its entity's body, or the vehicle it rides in.
     fn locate(env: &Arena, who: EntityId, _: SimTime) -> Option<[f64; 3]> {
-        env.pose(who).map(|p| p.pos)
+        env.pose(who)
+            .or_else(|| match env.conditions.get(who)?.status {
+                crate::condition::Status::Aboard(v) => env.pose(v),
+                _ => None,
+            })
+            .map(|p| p.pos)
     }
 
     fn state_digest(env: &Arena) -> u64 {

@@ -37,8 +37,14 @@ pub enum Order {
     GoTo([f64; 2]),
     /// Follow an entity, keeping near it.
     Follow(EntityId),
-    /// Pursue an entity (e.g. a high-value target).
-    Pursue(EntityId),
+    /// Pursue `target` (a high-value target) together with `team` (the pursuers, the first
+    /// of them leading).
+    Pursue {
+        /// Who to catch.
+        target: EntityId,
+        /// The pursuers; the first coordinates the others.
+        team: Vec<EntityId>,
+    },
     /// Stop and hold position.
     Hold,
 }

@@ -1,0 +1,244 @@
+//! The watchers: UAVs over the team and the UGV ahead of it. Each reports hostile contacts
+//! to the blue group.
+//!
+//! - [`AirRole::Patrol`] (Skeldar): flies a randomized patrol around the convoy — the next
+//!   waypoint drawn from the patrol policy over the route's checkpoints;
+//! - [`AirRole::Cover`] (Vidar): hovers over the checkpoints the cover plan gives it ahead
+//!   of the team;
+//! - [`AirRole::Scout`] (Procerus): flies the route ahead of the truck;
+//! - [`Ugv`]: drives to the junctions ahead of the truck.
+
+use super::commander::truck_pose;
+use super::{Reporter, SENSE};
+use crate::arena::Ev;
+use crate::condition::Status;
+use crate::entity::air::FlightCommand;
+use crate::evac::act::{Drive, Pilot};
+use crate::evac::brief::{BLUE, Brief};
+use crate::evac::sense::{Myself, Vision};
+use crate::map::Mode;
+use crate::model::{Controller, Intention, Tactical};
+use std::sync::Arc;
+use vitro::env::NodeId;
+use vitro::sim::{Context, Input};
+use vitro::time::SimDuration;
+
+/// Timer key of the flight re-planning.
+const PLAN: u64 = 40;
+/// Re-planning period of the aircraft, seconds.
+const PLAN_S: f64 = 20.0;
+
+/// What an aircraft does.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum AirRole {
+    /// Randomized patrol around the convoy.
+    Patrol,
+    /// Cover the team from a checkpoint ahead; `slot` orders the covering aircraft.
+    Cover {
+        /// 0 for the first cover aircraft, 1 for the second, ...
+        slot: usize,
+    },
+    /// Fly the route ahead of the truck.
+    Scout,
+}
+
+/// Index of the route node nearest to `p` (the truck's progress along the route).
+pub fn progress(brief: &Brief, p: [f64; 3]) -> usize {
+    let d = |n: NodeId| {
+        brief
+            .node_point(Mode::Drive, n)
+            .map_or(f64::INFINITY, |q| libm::hypot(q[0] - p[0], q[1] - p[1]))
+    };
+    (0..brief.route.len())
+        .min_by(|&a, &b| {
+            d(brief.route[a])
+                .total_cmp(&d(brief.route[b]))
+                .then(a.cmp(&b))
+        })
+        .unwrap_or(0)
+}
+
+/// A UAV of the team.
+#[derive(Debug)]
+pub struct Aircraft {
+    brief: Arc<Brief>,
+    pilot: Pilot,
+    /// What it does.
+    pub role: AirRole,
+    /// Height above the ground, metres.
+    pub height: f64,
+    reporter: Reporter,
+    path: Vec<[f64; 3]>,
+}
+
+impl Aircraft {
+    /// An aircraft of `brief` with `role`, flying `height` metres above the ground.
+    pub fn new(brief: Arc<Brief>, pilot: Pilot, role: AirRole, height: f64) -> Self {
+        Aircraft {
+            brief,
+            pilot,
+            role,
+            height,
+            reporter: Reporter::default(),
+            path: Vec::new(),
+        }
+    }
+
+    fn above(&self, p: [f64; 3]) -> [f64; 3] {
+        let g = self.brief.site.ground([p[0], p[1]]).unwrap_or(p[2]);
+        [p[0], p[1], g + self.height]
+    }
+
+    fn route_point(&self, i: usize) -> Option<[f64; 3]> {
+        let r = &self.brief.route;
+        let n = *r.get(i.min(r.len().saturating_sub(1)))?;
+        self.brief.node_point(Mode::Drive, n)
+    }
+
+    fn plan(&mut self, cx: &mut Context<'_, Tactical>) {
+        let Some(truck) = truck_pose(cx, self.brief.truck) else {
+            return;
+        };
+        let k = progress(&self.brief, truck);
+        let points: Vec<[f64; 3]> = match self.role {
+            AirRole::Patrol => {
+                let r = 150.0;
+                let phase = cx.now().as_secs_f64() / PLAN_S;
+                (0..4)
+                    .map(|i| {
+                        let a = phase + f64::from(i) * std::f64::consts::FRAC_PI_2;
+                        [
+                            truck[0] + r * libm::cos(a),
+                            truck[1] + r * libm::sin(a),
+                            truck[2],
+                        ]
+                    })
+                    .collect()
+            }
+            AirRole::Cover { slot } => self.route_point(k + 2 + 3 * slot).into_iter().collect(),
+            AirRole::Scout => (1..=4)
+                .filter_map(|j| self.route_point(k + 3 * j))
+                .collect(),
+        };
+        let points: Vec<[f64; 3]> = points.into_iter().map(|p| self.above(p)).collect();
+        if points.is_empty() {
+            return;
+        }
+        self.path = points.clone();
+        let _ = cx.act(
+            &self.pilot,
+            FlightCommand::Waypoints {
+                points,
+                speed: None,
+            },
+        );
+    }
+}
+
+impl Controller for Aircraft {
+    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+        match input {
+            Input::Event(Ev::Start) => {
+                cx.join(BLUE);
+                cx.set_timer(SimDuration::from_secs(1), SENSE);
+                cx.set_timer(SimDuration::ZERO, PLAN);
+            }
+            Input::Timer(PLAN) => {
+                self.plan(cx);
+                cx.set_timer(SimDuration::from_secs_f64(PLAN_S), PLAN);
+            }
+            Input::Timer(SENSE) => {
+                let active = cx
+                    .sense(&Myself)
+                    .is_some_and(|(c, _)| c.status == Status::Active);
+                if active {
+                    let seen = cx.sense(&Vision(self.brief.sensors.air.vision()));
+                    self.reporter.report(&seen, cx);
+                    let period = SimDuration::from_secs_f64(self.brief.sensors.period_s);
+                    cx.set_timer(period, SENSE);
+                }
+            }
+            _ => {}
+        }
+    }
+    fn intention(&self) -> Option<Intention> {
+        let text = match self.role {
+            AirRole::Patrol => "patrol around the convoy",
+            AirRole::Cover { .. } => "cover the team from ahead",
+            AirRole::Scout => "scout the route ahead",
+        };
+        Some(Intention {
+            text: text.into(),
+            path: self.path.clone(),
+            ..Intention::default()
+        })
+    }
+}
+
+/// The unmanned ground vehicle: drives to the route junctions ahead of the truck.
+#[derive(Debug)]
+pub struct Ugv {
+    brief: Arc<Brief>,
+    drive: Drive,
+    reporter: Reporter,
+    goal: Option<NodeId>,
+}
+
+impl Ugv {
+    /// The UGV of `brief`, driving at `drive`'s level.
+    pub fn new(brief: Arc<Brief>, drive: Drive) -> Self {
+        Ugv {
+            brief,
+            drive,
+            reporter: Reporter::default(),
+            goal: None,
+        }
+    }
+    fn next(&mut self, cx: &mut Context<'_, Tactical>) {
+        let Some(truck) = truck_pose(cx, self.brief.truck) else {
+            return;
+        };
+        let r = &self.brief.route;
+        let k = (progress(&self.brief, truck) + 6).min(r.len().saturating_sub(1));
+        let Some(&goal) = r.get(k) else { return };
+        if self.goal != Some(goal) && cx.act(&self.drive, goal).is_ok() {
+            self.goal = Some(goal);
+        } else {
+            self.goal = None;
+            cx.set_timer(SimDuration::from_secs(10), PLAN);
+        }
+    }
+}
+
+impl Controller for Ugv {
+    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+        match input {
+            Input::Event(Ev::Start) => {
+                cx.join(BLUE);
+                cx.set_timer(SimDuration::from_secs(1), SENSE);
+                self.next(cx);
+            }
+            Input::Event(Ev::Arrived(_)) | Input::Timer(PLAN) => self.next(cx),
+            Input::Timer(SENSE) => {
+                let seen = cx.sense(&Vision(self.brief.sensors.ground.vision()));
+                self.reporter.report(&seen, cx);
+                cx.set_timer(
+                    SimDuration::from_secs_f64(self.brief.sensors.period_s),
+                    SENSE,
+                );
+            }
+            _ => {}
+        }
+    }
+    fn intention(&self) -> Option<Intention> {
+        Some(Intention {
+            text: "scout the junctions ahead".into(),
+            path: self
+                .goal
+                .and_then(|g| self.brief.node_point(Mode::Drive, g))
+                .into_iter()
+                .collect(),
+            ..Intention::default()
+        })
+    }
+}
