@@ -25,6 +25,7 @@ mod plan;
 mod record;
 mod run;
 mod solve;
+mod view;
 mod validate;
 
 use clap::{Parser, Subcommand};
@@ -64,6 +65,8 @@ enum Command {
     /// Cross-level checks: `vitro check levels`.
     #[command(subcommand)]
     Check(check::CheckCommand),
+    /// Watches a scenario run live, or replays a recording, in the browser.
+    View(view::ViewArgs),
     /// Checks a scenario file without running it.
     Validate {
         /// The scenario file (TOML).
@@ -95,6 +98,7 @@ fn main() -> ExitCode {
         Command::Map(cmd) => map::map(&cmd),
         Command::Check(cmd) => check::check(&cmd),
         Command::Terrain(cmd) => map::terrain(&cmd),
+        Command::View(args) => view::view(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

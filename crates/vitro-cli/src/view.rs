@@ -1,0 +1,145 @@
+//! `vitro view`: watch a scenario run live, or replay a recording, in the browser.
+//!
+//! `vitro view SCENARIO.toml` runs the scenario on its own thread, paced at `--speed`
+//! simulated seconds per wall second, and serves the viewer on `--addr`; `vitro view
+//! RUN.mcap` replays a recording. The page, its scripts and three.js come from the binary.
+
+mod demo;
+
+use crate::Failure;
+use anyhow::{Context as _, anyhow};
+use clap::Args;
+use std::io::Write as _;
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
+use vitro_demo::Scenario;
+use vitro_demo::config::{ConfigError, DemoConfig, MAX_END_S};
+use vitro_viz::server::{Feed, serve};
+use vitro_viz::{LiveRun, Outcome};
+
+#[derive(Debug, Args)]
+pub(crate) struct ViewArgs {
+    /// A scenario file (TOML) to run live, or a recording (.mcap) to replay.
+    target: PathBuf,
+    /// Address to serve on (port 0: any free port; the address is printed).
+    #[arg(long, default_value = "127.0.0.1:8080")]
+    addr: SocketAddr,
+    /// Simulated seconds per wall second (0.1 to 1000).
+    #[arg(long, default_value_t = 1.0, value_name = "X")]
+    speed: f64,
+    /// Starts paused (live).
+    #[arg(long)]
+    paused: bool,
+    /// Master seed (overrides the scenario's).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Simulated seconds to run (overrides the scenario's end time).
+    #[arg(long, value_name = "SECONDS")]
+    until: Option<f64>,
+}
+
+pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
+    let is_recording = args
+        .target
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
+    let feed = if is_recording {
+        return Err(Failure::Input(anyhow!(
+            "{}: replaying recordings is not available yet (vitro-record's Replay)",
+            args.target.display()
+        )));
+    } else {
+        let source = demo_source(args)?;
+        let run = LiveRun::start(source, Some(args.speed), args.paused)
+            .context("--speed")
+            .map_err(Failure::Input)?;
+        Feed::Live(run)
+    };
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .context("starting the server's runtime")
+        .map_err(Failure::Runtime)?;
+    let result = runtime.block_on(serve_until_interrupted(args.addr, feed.clone()));
+    if let Feed::Live(run) = &feed {
+        let reported = run.outcome().is_some();
+        if let (Some(o), false) = (run.stop(), reported) {
+            report(&o);
+        }
+    }
+    result
+}
+
+async fn serve_until_interrupted(addr: SocketAddr, feed: Feed) -> Result<(), Failure> {
+    let listener = tokio::net::TcpListener::bind(addr)
+        .await
+        .with_context(|| format!("cannot listen on {addr}"))
+        .map_err(Failure::Input)?;
+    let bound = listener
+        .local_addr()
+        .context("reading the bound address")
+        .map_err(Failure::Runtime)?;
+    say(&format!("serving http://{bound}/ (Ctrl-C to stop)"));
+    if let Feed::Live(run) = &feed {
+        let run = run.clone();
+        tokio::spawn(async move { report(&run.finished().await) });
+    }
+    let shutdown = async {
+        // Without a signal handler the server runs until the process is killed.
+        if tokio::signal::ctrl_c().await.is_err() {
+            std::future::pending::<()>().await;
+        }
+    };
+    serve(listener, feed, shutdown)
+        .await
+        .context("serving the view")
+        .map_err(Failure::Runtime)
+}
+
+/// Prints a line on stdout now (scripts wait for these lines).
+fn say(line: &str) {
+    let mut out = std::io::stdout().lock();
+    // stdout closed: nobody is listening, nothing to do.
+    let _ = writeln!(out, "{line}").and_then(|()| out.flush());
+}
+
+fn report(o: &Outcome) {
+    let how = match (&o.failure, o.stopped) {
+        (Some(f), _) => format!("failed: {f}"),
+        (None, true) => "stopped".to_owned(),
+        (None, false) => "finished".to_owned(),
+    };
+    say(&format!(
+        "run {how} at t={:.3} s after {} events; trace hash {:016x}",
+        o.t_ns as f64 / 1e9,
+        o.events,
+        o.trace_hash
+    ));
+}
+
+fn demo_source(args: &ViewArgs) -> Result<demo::DemoSource, Failure> {
+    let mut cfg = load_demo(&args.target)?;
+    if let Some(seed) = args.seed {
+        cfg.seed = seed;
+    }
+    if let Some(until) = args.until {
+        if !(until > 0.0 && until <= MAX_END_S) {
+            return Err(Failure::Input(anyhow!(
+                "--until {until}: expected a number of simulated seconds in (0, {MAX_END_S:e}]"
+            )));
+        }
+        cfg.end_s = until;
+    }
+    let scenario = Scenario::build(cfg).map_err(|e| Failure::Input(e.into()))?;
+    Ok(demo::DemoSource::new(scenario))
+}
+
+fn load_demo(path: &Path) -> Result<DemoConfig, Failure> {
+    DemoConfig::load(path).map_err(|e| match e {
+        ConfigError::Read { .. } => Failure::Input(e.into()),
+        ConfigError::Content(d) => {
+            Failure::Input(anyhow::Error::new(*d).context("invalid scenario"))
+        }
+    })
+}

@@ -1,0 +1,52 @@
+//! # vitro-viz: watch a run live or replay a recording, in the browser
+//!
+//! A small web server (axum) that serves one page (a 2D map on a canvas, a 3D view with
+//! three.js, time controls, an inspector, metric charts; all compiled into the binary) and
+//! streams the run over a WebSocket as JSON: a [`Scene`](vitro_record::Scene) once, then
+//! [`Frame`](vitro_record::Frame)s ([`protocol`]).
+//!
+//! - **Live** ([`live`]): a [`LiveSource`] (a scenario's simulation, seen through a small
+//!   trait so this crate knows no model) runs on its own thread, paced; viewers pause, step
+//!   and change its speed through its [`Control`](vitro::sim::Control) handle and never
+//!   slow it down or change its trace.
+//! - **Replay** ([`replay`]): a [`Recording`] played back, each browser tab with its own
+//!   playhead (play, pause, step, seek).
+//!
+//! ```no_run
+//! # async fn demo(source: impl vitro_viz::LiveSource) -> Result<(), vitro_viz::ViewError> {
+//! use vitro_viz::{LiveRun, server::{Feed, serve}};
+//! let run = LiveRun::start(source, Some(1.0), false)?;
+//! let listener = tokio::net::TcpListener::bind("127.0.0.1:8080").await.map_err(vitro_viz::ViewError::Bind)?;
+//! serve(listener, Feed::Live(run.clone()), std::future::pending()).await?;
+//! run.stop();
+//! # Ok(()) }
+//! ```
+
+pub mod assets;
+pub mod live;
+pub mod protocol;
+pub mod replay;
+pub mod server;
+
+pub use live::{Advance, LiveRun, LiveSource, Outcome, SourceError, advance_sim};
+pub use replay::{MemoryRecording, Recording, ReplayFeed};
+
+/// Why the viewer could not start or serve.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewError {
+    /// The address could not be bound.
+    #[error("cannot listen: {0}")]
+    Bind(#[source] std::io::Error),
+    /// The server failed while serving.
+    #[error("server failed: {0}")]
+    Serve(#[source] std::io::Error),
+    /// The simulation thread could not be started.
+    #[error("cannot start the simulation thread: {0}")]
+    Thread(#[source] std::io::Error),
+    /// The requested speed is out of range.
+    #[error("{0}")]
+    Speed(#[from] vitro::sim::ControlError),
+    /// The recording could not be read.
+    #[error("cannot read the recording: {0}")]
+    Source(#[source] live::SourceError),
+}
