@@ -1,0 +1,173 @@
+//! `vitro view`: the demo served live; a watched, paused and stepped run ends with the trace
+//! hash of `vitro run`; bad arguments are bad input.
+
+mod common;
+
+use common::{repo, vitro};
+use futures_util::{SinkExt, StreamExt};
+use serde_json::Value;
+use std::io::{BufRead, BufReader};
+use std::process::{Child, ChildStdout, Command, Stdio};
+use std::time::Duration;
+use tokio_tungstenite::tungstenite::Message;
+
+/// `vitro view ARGS` in the background, killed when dropped.
+struct Server {
+    child: Child,
+    lines: BufReader<ChildStdout>,
+    addr: String,
+}
+
+impl Server {
+    fn start(args: &[&str]) -> Server {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_vitro"))
+            .arg("view")
+            .args(args)
+            .current_dir(repo())
+            .stdout(Stdio::piped())
+            .spawn()
+            .expect("the binary runs");
+        let mut lines = BufReader::new(child.stdout.take().expect("stdout"));
+        let mut first = String::new();
+        lines.read_line(&mut first).expect("a line");
+        let addr = first
+            .split("http://")
+            .nth(1)
+            .and_then(|s| s.split('/').next())
+            .unwrap_or_else(|| panic!("no address in {first:?}"))
+            .to_owned();
+        Server { child, lines, addr }
+    }
+
+    fn next_line(&mut self) -> String {
+        let mut line = String::new();
+        self.lines.read_line(&mut line).expect("a line");
+        line
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+type Ws =
+    tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
+
+async fn next_of(ws: &mut Ws, kind: &str) -> Value {
+    loop {
+        let msg = tokio::time::timeout(Duration::from_secs(60), ws.next())
+            .await
+            .expect("a message in time")
+            .expect("open")
+            .expect("readable");
+        if let Message::Text(t) = msg {
+            let v: Value = serde_json::from_str(t.as_str()).expect("JSON");
+            if v["type"] == kind {
+                return v;
+            }
+        }
+    }
+}
+
+async fn command(ws: &mut Ws, cmd: &str) {
+    ws.send(Message::Text(cmd.into())).await.expect("send");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_watched_demo_run_has_the_trace_hash_of_vitro_run() {
+    let until = "900";
+    let (code, out, err) = vitro(&["run", "scenarios/demo.toml", "--until", until, "--quiet"]);
+    assert_eq!(code, 0, "{err}");
+    let unwatched = out.trim().to_owned();
+
+    let mut server = Server::start(&[
+        "scenarios/demo.toml",
+        "--addr",
+        "127.0.0.1:0",
+        "--speed",
+        "1000",
+        "--until",
+        until,
+    ]);
+    let (mut ws, _) = tokio_tungstenite::connect_async(format!("ws://{}/ws", server.addr))
+        .await
+        .expect("websocket");
+    let scene = next_of(&mut ws, "scene").await;
+    assert!(
+        scene["scene"]["streets"]
+            .as_array()
+            .is_some_and(|s| s.len() > 100)
+    );
+    let frame = next_of(&mut ws, "frame").await;
+    assert_eq!(frame["frame"]["entities"].as_array().map(Vec::len), Some(6));
+
+    command(&mut ws, r#"{"cmd":"pause"}"#).await;
+    let paused = loop {
+        let s = next_of(&mut ws, "status").await;
+        if s["paused"] == true {
+            break s;
+        }
+    };
+    command(&mut ws, r#"{"cmd":"step","n":1}"#).await;
+    let events = paused["events"].as_u64().expect("events");
+    loop {
+        let f = next_of(&mut ws, "frame").await;
+        if f["frame"]["events"] == events + 1 {
+            break;
+        }
+        assert!(
+            f["frame"]["events"].as_u64() <= Some(events),
+            "one step, one event"
+        );
+    }
+    command(&mut ws, r#"{"cmd":"resume"}"#).await;
+    let last = loop {
+        let s = next_of(&mut ws, "status").await;
+        if s["finished"] == true {
+            break s;
+        }
+    };
+    assert_eq!(last["trace_hash"], unwatched.as_str());
+    let line = server.next_line();
+    assert!(
+        line.contains(&format!("trace hash {unwatched}")) && line.contains("finished"),
+        "{line}"
+    );
+}
+
+#[test]
+fn bad_arguments_are_bad_input() {
+    for args in [
+        &["view", "no/such/scenario.toml", "--addr", "127.0.0.1:0"][..],
+        &[
+            "view",
+            "scenarios/demo.toml",
+            "--addr",
+            "127.0.0.1:0",
+            "--speed",
+            "5000",
+        ],
+        &[
+            "view",
+            "scenarios/demo.toml",
+            "--addr",
+            "127.0.0.1:0",
+            "--until",
+            "-1",
+        ],
+        &["view", "no/such/run.mcap", "--addr", "127.0.0.1:0"],
+    ] {
+        let (code, _, err) = vitro(args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.starts_with("error: "), "{args:?}: {err}");
+    }
+    // An address in use.
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
+    let addr = taken.local_addr().expect("address").to_string();
+    let (code, _, err) = vitro(&["view", "scenarios/demo.toml", "--addr", &addr]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cannot listen"), "{err}");
+}
