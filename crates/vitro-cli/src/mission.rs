@@ -12,6 +12,7 @@ use std::time::Instant;
 use vitro::time::{SimDuration, SimTime};
 use vitro_tactical::evac::referee::Metrics;
 use vitro_tactical::evac::{Mission, MissionError};
+use vitro_tactical::scenario::Preset;
 
 /// True if the file at `path` looks like a mission scenario (it has `[site]` or
 /// `[[entity]]`); unreadable or malformed files are left to the demo's loader to report.
@@ -27,8 +28,23 @@ pub(crate) fn is_mission(path: &Path) -> bool {
 
 /// Builds the mission of `path`: scenario problems are bad input, set-up failures runtime
 /// errors.
-pub(crate) fn build(path: &Path, seed: Option<u64>) -> Result<Mission, Failure> {
-    Mission::from_file(path, seed).map_err(|e| match e {
+pub(crate) fn build(
+    path: &Path,
+    seed: Option<u64>,
+    fidelity: Option<&str>,
+) -> Result<Mission, Failure> {
+    let built = match fidelity {
+        None => Mission::from_file(path, seed),
+        Some(p) => {
+            let preset = match p {
+                "interpolated" => Preset::Interpolated,
+                "physical" => Preset::Physical,
+                _ => Preset::Discrete,
+            };
+            Mission::at_fidelity(path, seed, preset)
+        }
+    };
+    built.map_err(|e| match e {
         MissionError::Scenario(d) => Failure::Input(
             anyhow::Error::new(d).context(format!("invalid scenario {}", path.display())),
         ),
@@ -67,7 +83,7 @@ pub(crate) fn levels(m: &Mission) -> std::collections::BTreeMap<String, String> 
 
 pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
     let text = std::fs::read_to_string(&args.scenario).ok();
-    let mut mission = build(&args.scenario, args.seed)?;
+    let mut mission = build(&args.scenario, args.seed, args.fidelity.as_deref())?;
     let seed = args.seed.unwrap_or_else(|| seed_of(text.as_deref()));
     if let Some(until) = args.until {
         if !(until > 0.0 && until <= 1.0e6) {

@@ -25,6 +25,10 @@ pub(crate) struct RunArgs {
     /// as possible. Pacing never changes the outcome.
     #[arg(long, value_name = "X")]
     pub(crate) speed: Option<f64>,
+    /// Runs every entity type at the levels of this preset (discrete, interpolated,
+    /// physical) instead of the file's — mission scenarios only.
+    #[arg(long, value_name = "PRESET", value_parser = ["discrete", "interpolated", "physical"])]
+    pub(crate) fidelity: Option<String>,
     /// Records the run to an MCAP file (Foxglove schemas) — mission scenarios only.
     #[arg(long, value_name = "FILE.mcap")]
     pub(crate) record: Option<PathBuf>,

@@ -33,7 +33,7 @@ use crate::condition::{Role, Status};
 use crate::entity::Level;
 use crate::model::Tactical;
 use crate::radio::Radio;
-use crate::scenario::{Diagnostics, EntityType, ScenarioFile, Validated};
+use crate::scenario::{Diagnostics, EntityType, FidelitySpec, Preset, ScenarioFile, Validated};
 use crate::world::Side;
 use brief::Brief;
 use referee::{Metrics, Referee};
@@ -109,6 +109,21 @@ impl Mission {
     /// Validates the scenario at `path` and builds its mission with its seed, or `seed`.
     pub fn from_file(path: impl AsRef<Path>, seed: Option<u64>) -> Result<Mission, MissionError> {
         let v = ScenarioFile::validate(path)?;
+        Mission::build(v, seed)
+    }
+
+    /// [`from_file`](Self::from_file) with every entity type at the levels of `preset`
+    /// (the file's per-type overrides dropped): the same mission at another fidelity.
+    pub fn at_fidelity(
+        path: impl AsRef<Path>,
+        seed: Option<u64>,
+        preset: Preset,
+    ) -> Result<Mission, MissionError> {
+        let mut v = ScenarioFile::validate(path)?;
+        v.loaded.file.fidelity = FidelitySpec {
+            level: preset,
+            ..FidelitySpec::default()
+        };
         Mission::build(v, seed)
     }
 
