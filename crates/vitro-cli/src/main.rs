@@ -6,6 +6,7 @@
 //! vitro plan DOMAIN PROBLEM [--optimal] [--json]
 //! vitro solve cops GRAPH.edges [--json]
 //! vitro check levels [--json]
+//! vitro export kml RUN.mcap [--out FILE.kml]
 //! vitro map info FILE.osm.pbf [--json]
 //! vitro map render FILE.osm.pbf --out map.png [--terrain GRID] [--offset X,Y]
 //! vitro terrain viewshed GRID --observer X,Y --observer-height H --target-height T --out MASK.asc
@@ -19,14 +20,15 @@
 
 mod batch;
 mod check;
+mod export;
 mod map;
 mod mission;
 mod plan;
 mod record;
 mod run;
 mod solve;
-mod view;
 mod validate;
+mod view;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -56,6 +58,9 @@ enum Command {
     /// Terrain analysis: `vitro terrain viewshed FILE --observer X,Y ...`.
     #[command(subcommand)]
     Terrain(map::TerrainCommand),
+    /// Exports a recording: `vitro export kml RUN.mcap [--out FILE.kml]`.
+    #[command(subcommand)]
+    Export(export::ExportCommand),
     /// Runs an experiment: a parameter sweep of a scenario, in parallel, resumable.
     Batch(batch::BatchArgs),
     /// Joins result directories (the shards) of one experiment into one.
@@ -98,6 +103,7 @@ fn main() -> ExitCode {
         Command::Map(cmd) => map::map(&cmd),
         Command::Check(cmd) => check::check(&cmd),
         Command::Terrain(cmd) => map::terrain(&cmd),
+        Command::Export(cmd) => export::export(&cmd),
         Command::View(args) => view::view(&args),
     };
     match result {
