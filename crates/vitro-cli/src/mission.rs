@@ -131,7 +131,7 @@ pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
     let chunk = mission.sample.max(SimDuration::from_secs(1));
     let mut t = SimTime::ZERO;
     loop {
-        t = t + chunk;
+        t += chunk;
         let going = mission.advance(t.min(mission.end));
         if let Some(r) = recorder.as_mut() {
             r.frame(&mut mission).map_err(Failure::Runtime)?;
@@ -236,8 +236,8 @@ fn print_summary(r: &Report) {
         }
     );
     println!(
-        "messages      {} sent, {} lost; {} cover-plan repairs",
-        m.messages_sent, m.messages_lost, m.plan_repairs
+        "messages      {} sent, {} lost",
+        m.messages_sent, m.messages_lost
     );
     println!(
         "time          {:.1} s simulated in {:.3} s wall ({:.0}x real time), {} events ({:.0}/s)",

@@ -23,7 +23,7 @@ fn run(
         while m.advance(t) {
             let f = m.frame();
             assert!(f.entities.iter().any(|e| e.kind == "truck"));
-            t = t + m.sample;
+            t += m.sample;
         }
     } else {
         m.run();

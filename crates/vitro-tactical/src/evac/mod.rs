@@ -213,7 +213,7 @@ impl Mission {
                 StopReason::Time | StopReason::QueueEmpty => {
                     if next == self.next_sample {
                         self.take_sample(next);
-                        self.next_sample = self.next_sample + self.sample;
+                        self.next_sample += self.sample;
                     }
                     if reason == StopReason::QueueEmpty || next >= self.end {
                         self.take_sample(next);

@@ -40,8 +40,6 @@ pub struct Metrics {
     pub messages_sent: u64,
     /// Messages lost on the channel.
     pub messages_lost: u64,
-    /// Cover-plan repairs made by the Vidars.
-    pub plan_repairs: u64,
     /// Shots fired by the adversaries.
     pub shots: u64,
     /// Events fired.

@@ -203,10 +203,8 @@ impl Controller for Hvt {
                 let at = SimDuration::from_secs_f64(self.brief.mission.hvt_appear_s);
                 cx.set_timer(at, APPEAR);
             }
-            Input::Timer(APPEAR) => {
-                if cx.act(&SetStatus, Status::Active).is_ok() {
-                    cx.set_timer(SimDuration::ZERO, TURN);
-                }
+            Input::Timer(APPEAR) if cx.act(&SetStatus, Status::Active).is_ok() => {
+                cx.set_timer(SimDuration::ZERO, TURN);
             }
             Input::Timer(TURN) => self.on_turn(cx),
             Input::Timer(DECIDED) => self.on_decided(cx),
