@@ -1,4 +1,5 @@
-//! `--record`: writes the run's frames to a file as they are sampled.
+//! `--record`: writes the run to MCAP (Foxglove schemas plus Vitro's lossless channels) as
+//! frames are sampled; see [`vitro_record::Recorder`].
 
 use anyhow::Context as _;
 use std::path::Path;
@@ -6,31 +7,24 @@ use vitro_tactical::evac::Mission;
 
 /// A recording under way.
 pub(crate) struct Recording {
-    out: std::io::BufWriter<std::fs::File>,
+    rec: vitro_record::Recorder<std::io::BufWriter<std::fs::File>>,
 }
 
 impl Recording {
     /// Starts a recording of `mission` at `path` (writes the scene).
     pub(crate) fn create(path: &Path, mission: &Mission) -> anyhow::Result<Recording> {
-        use std::io::Write as _;
-        let file = std::fs::File::create(path)
-            .with_context(|| format!("cannot create {}", path.display()))?;
-        let mut out = std::io::BufWriter::new(file);
-        serde_json::to_writer(&mut out, &mission.scene())?;
-        writeln!(out)?;
-        Ok(Recording { out })
+        let rec = vitro_record::Recorder::create(path, &mission.scene())
+            .with_context(|| format!("cannot record to {}", path.display()))?;
+        Ok(Recording { rec })
     }
     /// Records the mission's current frame.
     pub(crate) fn frame(&mut self, mission: &mut Mission) -> anyhow::Result<()> {
-        use std::io::Write as _;
-        serde_json::to_writer(&mut self.out, &mission.frame())?;
-        writeln!(self.out)?;
+        self.rec.frame(&mission.frame()).context("writing a frame")?;
         Ok(())
     }
-    /// Ends the recording.
-    pub(crate) fn finish(mut self) -> anyhow::Result<()> {
-        use std::io::Write as _;
-        self.out.flush()?;
+    /// Ends the recording (writes the MCAP summary).
+    pub(crate) fn finish(self) -> anyhow::Result<()> {
+        self.rec.finish().context("closing the recording")?;
         Ok(())
     }
 }
