@@ -9,11 +9,11 @@
 //!   trait so this crate knows no model) runs on its own thread, paced; viewers pause, step
 //!   and change its speed through its [`Control`](vitro::sim::Control) handle and never
 //!   slow it down or change its trace.
-//! - **Replay** ([`replay`]): a [`Recording`] played back, each browser tab with its own
-//!   playhead (play, pause, step, seek).
+//! - **Replay** ([`replay`]): a [`Recording`] (a Vitro MCAP file: [`McapRecording`])
+//!   played back, each browser tab with its own playhead (play, pause, step, seek).
 //!
 //! ```no_run
-//! # async fn demo(source: impl vitro_viz::LiveSource) -> Result<(), vitro_viz::ViewError> {
+//! # async fn demo(source: impl vitro_viz::LiveSource + Send) -> Result<(), vitro_viz::ViewError> {
 //! use vitro_viz::{LiveRun, server::{Feed, serve}};
 //! let run = LiveRun::start(source, Some(1.0), false)?;
 //! let listener = tokio::net::TcpListener::bind("127.0.0.1:8080").await.map_err(vitro_viz::ViewError::Bind)?;
@@ -28,8 +28,8 @@ pub mod protocol;
 pub mod replay;
 pub mod server;
 
-pub use live::{Advance, LiveRun, LiveSource, Outcome, SourceError, advance_sim};
-pub use replay::{MemoryRecording, Recording, ReplayFeed};
+pub use live::{LiveRun, LiveSource, Outcome, SourceError, advance_sim};
+pub use replay::{McapRecording, MemoryRecording, Recording, ReplayFeed};
 
 /// Why the viewer could not start or serve.
 #[derive(Debug, thiserror::Error)]

@@ -8,7 +8,7 @@
 
 use crate::ViewError;
 use crate::protocol::{Command, CommandError, Hello, History, Mode, ServerMsg, Status};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -23,19 +23,11 @@ pub const FRAME_WALL: Duration = Duration::from_millis(40);
 /// An error a source reports (its controller failed, its state is inconsistent).
 pub type SourceError = Box<dyn std::error::Error + Send + Sync>;
 
-/// How far [`LiveSource::advance`] got.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub enum Advance {
-    /// It reached the requested time.
-    Reached,
-    /// It returned early: the interrupt held after an event, or the control handle's `stop`.
-    Interrupted,
-    /// The run is over (end time or end condition reached, nothing left to happen).
-    Finished,
-}
-
 /// A simulation the viewer can run and show: what a scenario implements to be watched.
-pub trait LiveSource: Send + 'static {
+///
+/// It lives on the simulation thread (built there by [`LiveRun::spawn`] if it cannot move
+/// between threads).
+pub trait LiveSource: 'static {
     /// What is shown (the scenario's name).
     fn title(&self) -> String;
     /// The static world.
@@ -48,32 +40,22 @@ pub trait LiveSource: Send + 'static {
     fn sample_ns(&self) -> u64 {
         1_000_000_000
     }
-    /// Runs up to `until_ns` (events at that time included), returning early when
-    /// `interrupt` holds after an event or when the control handle's `stop` is called.
-    /// [`advance_sim`] does it for a [`Simulation`].
-    fn advance(
-        &mut self,
-        until_ns: u64,
-        interrupt: &mut dyn FnMut() -> bool,
-    ) -> Result<Advance, SourceError>;
+    /// Runs up to `until_ns` (events at that time included), returning early when the
+    /// control handle's `stop` is called; `Ok(false)` once the run is over (end time, end
+    /// condition, nothing left to happen). [`advance_sim`] does it for a [`Simulation`].
+    fn advance(&mut self, until_ns: u64) -> Result<bool, SourceError>;
     /// The state now, shown as of `t_ns` (the time reached). Must not change the run.
     fn frame(&mut self, t_ns: u64) -> Frame;
     /// The trace hash so far.
     fn trace_hash(&self) -> u64;
 }
 
-/// Runs `sim` up to `until_ns` for [`LiveSource::advance`]: an early return is
-/// [`Advance::Interrupted`]; an empty queue or a stop requested by an agent is
-/// [`Advance::Finished`]. (An end time is the source's to check.)
-pub fn advance_sim<M: Model>(
-    sim: &mut Simulation<M>,
-    until_ns: u64,
-    interrupt: &mut dyn FnMut() -> bool,
-) -> Advance {
-    match sim.run(SimTime::from_nanos(until_ns), |_| interrupt()) {
-        StopReason::Time => Advance::Reached,
-        StopReason::Condition | StopReason::Control => Advance::Interrupted,
-        StopReason::QueueEmpty | StopReason::Requested => Advance::Finished,
+/// Runs `sim` up to `until_ns` for [`LiveSource::advance`]: false once its queue is empty
+/// or an agent asked to stop. (An end time is the source's to check.)
+pub fn advance_sim<M: Model>(sim: &mut Simulation<M>, until_ns: u64) -> bool {
+    match sim.run_until(SimTime::from_nanos(until_ns)) {
+        StopReason::Time | StopReason::Control | StopReason::Condition => true,
+        StopReason::QueueEmpty | StopReason::Requested => false,
     }
 }
 
@@ -101,6 +83,19 @@ struct Shared {
     frames: watch::Sender<Option<Arc<str>>>,
     outcome: watch::Sender<Option<Outcome>>,
     quit: AtomicBool,
+    /// How many times the run was interrupted (made to return from `advance`) so far.
+    interrupts: AtomicU64,
+    /// Steps asked for and not yet handed to the control handle.
+    steps: Mutex<u64>,
+}
+
+impl Shared {
+    /// Makes the simulation thread return from `advance` (before its next event) and show
+    /// the state it reached.
+    fn interrupt(&self) {
+        self.interrupts.fetch_add(1, Ordering::SeqCst);
+        self.control.stop();
+    }
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -121,47 +116,50 @@ impl LiveRun {
     /// Starts `source` on a new thread, paced at `speed` simulated seconds per wall second
     /// (`None`: as fast as possible), paused first if `paused`.
     pub fn start(
-        source: impl LiveSource,
+        source: impl LiveSource + Send,
         speed: Option<f64>,
         paused: bool,
     ) -> Result<LiveRun, ViewError> {
-        let control = source.control();
-        match speed {
-            Some(s) => control.set_speed(s)?,
-            None => control.unpaced(),
-        }
-        if paused {
-            control.pause();
-        }
-        let scene = source.scene();
-        let hello = Hello {
-            mode: Mode::Live,
-            title: source.title(),
-            start_ns: control.sim_time().as_nanos(),
-            end_ns: source.end_ns(),
-        };
-        let scene_json = ServerMsg::Scene {
-            scene: Box::new(scene),
-        }
-        .to_json();
-        let shared = Arc::new(Shared {
-            control,
-            hello,
-            scene_json: scene_json.into(),
-            history: Mutex::new(History::default()),
-            frames: watch::Sender::new(None),
-            outcome: watch::Sender::new(None),
-            quit: AtomicBool::new(false),
-        });
-        let inner = shared.clone();
+        LiveRun::spawn(move || Ok(source), speed, paused)
+    }
+
+    /// Builds a source on a new thread with `build` and runs it there (for sources that
+    /// cannot move between threads), paced at `speed`, paused first if `paused`.
+    pub fn spawn<S: LiveSource>(
+        build: impl FnOnce() -> Result<S, SourceError> + Send + 'static,
+        speed: Option<f64>,
+        paused: bool,
+    ) -> Result<LiveRun, ViewError> {
+        let (tx, rx) = std::sync::mpsc::sync_channel(1);
         let thread = std::thread::Builder::new()
             .name("vitro-sim".into())
-            .spawn(move || run_loop(source, &inner))
+            .spawn(move || {
+                let ready = build()
+                    .map_err(ViewError::Source)
+                    .and_then(|source| prepare(source, speed, paused));
+                match ready {
+                    Ok((source, shared)) => {
+                        // The caller may have given up waiting: then nobody watches this run.
+                        if tx.send(Ok(shared.clone())).is_ok() {
+                            run_loop(source, shared);
+                        }
+                    }
+                    Err(e) => {
+                        let _ = tx.send(Err(e));
+                    }
+                }
+            })
             .map_err(ViewError::Thread)?;
-        Ok(LiveRun {
-            shared,
-            thread: Arc::new(Mutex::new(Some(thread))),
-        })
+        match rx.recv() {
+            Ok(Ok(shared)) => Ok(LiveRun {
+                shared,
+                thread: Arc::new(Mutex::new(Some(thread))),
+            }),
+            Ok(Err(e)) => Err(e),
+            Err(_) => Err(ViewError::Source(
+                "the simulation thread ended while starting".into(),
+            )),
+        }
     }
 
     /// The simulation's control handle.
@@ -224,27 +222,29 @@ impl LiveRun {
     }
 
     /// Applies a client command to the run.
+    ///
+    /// A step pauses the run and fires exactly `n` more events; the simulation thread hands
+    /// the steps to the control handle when it is out of `advance`, so that it knows where
+    /// they start and can show the state after the last one.
     pub fn apply(&self, cmd: &Command) -> Result<(), CommandError> {
-        let c = &self.shared.control;
+        let s = &self.shared;
         match *cmd {
             Command::Pause {} => {
-                c.pause();
-                // Wakes the simulation thread so it shows the state where it paused.
-                c.stop();
+                s.control.pause();
+                s.interrupt();
             }
-            Command::Resume {} => c.resume(),
+            Command::Resume {} => s.control.resume(),
             Command::Step { n } => {
-                if !c.is_paused() {
-                    c.pause();
-                    c.stop();
-                }
-                c.step(n);
+                *lock(&s.steps) += n;
+                s.control.pause();
+                s.interrupt();
             }
             Command::Speed { factor } => {
-                c.set_speed(factor)
+                s.control
+                    .set_speed(factor)
                     .map_err(|e| CommandError::OutOfRange(e.to_string()))?;
-                // Wakes the simulation thread so the next frame comes at the new pace.
-                c.stop();
+                // The next frame comes at the new pace.
+                s.interrupt();
             }
             Command::Seek { .. } => return Err(CommandError::Unavailable("seek", Mode::Live)),
         }
@@ -254,7 +254,7 @@ impl LiveRun {
     /// Stops the run (if it is still going) and waits for its thread; the outcome.
     pub fn stop(&self) -> Option<Outcome> {
         self.shared.quit.store(true, Ordering::SeqCst);
-        self.shared.control.stop();
+        self.shared.interrupt();
         if let Some(t) = lock(&self.thread).take() {
             // A panic on the simulation thread was already reported by the panic hook.
             let _ = t.join();
@@ -263,16 +263,59 @@ impl LiveRun {
     }
 }
 
+/// Sets the pace of `source` and what its clients get first.
+fn prepare<S: LiveSource>(
+    source: S,
+    speed: Option<f64>,
+    paused: bool,
+) -> Result<(S, Arc<Shared>), ViewError> {
+    let control = source.control();
+    match speed {
+        Some(s) => control.set_speed(s)?,
+        None => control.unpaced(),
+    }
+    if paused {
+        control.pause();
+    }
+    let hello = Hello {
+        mode: Mode::Live,
+        title: source.title(),
+        start_ns: control.sim_time().as_nanos(),
+        end_ns: source.end_ns(),
+    };
+    let scene_json = ServerMsg::Scene {
+        scene: Box::new(source.scene()),
+    }
+    .to_json();
+    let shared = Arc::new(Shared {
+        control,
+        hello,
+        scene_json: scene_json.into(),
+        history: Mutex::new(History::default()),
+        frames: watch::Sender::new(None),
+        outcome: watch::Sender::new(None),
+        quit: AtomicBool::new(false),
+        interrupts: AtomicU64::new(0),
+        steps: Mutex::new(0),
+    });
+    Ok((source, shared))
+}
+
 /// The simulation thread: run a slice, publish a frame, repeat.
-fn run_loop(mut source: impl LiveSource, shared: &Shared) {
+fn run_loop(mut source: impl LiveSource, shared: Arc<Shared>) {
     let ctl = shared.control.clone();
     let end = source.end_ns();
     let mut t = ctl.sim_time().as_nanos();
-    publish(&mut source, shared, t);
+    publish(&mut source, &shared, t);
     let mut last_publish = Instant::now();
     let (failure, stopped) = loop {
         if shared.quit.load(Ordering::SeqCst) {
             break (None, true);
+        }
+        let steps = std::mem::take(&mut *lock(&shared.steps));
+        if steps > 0 {
+            watch_steps(&shared, ctl.events_fired() + steps);
+            ctl.step(steps);
         }
         let slice = match ctl.speed() {
             Some(speed) => (speed * FRAME_WALL.as_secs_f64() * 1e9) as u64,
@@ -282,35 +325,29 @@ fn run_loop(mut source: impl LiveSource, shared: &Shared) {
         if let Some(end) = end {
             until = until.min(end);
         }
-        let start = ctl.events_fired();
-        let step = source.advance(until, &mut || ctl.is_paused() && ctl.events_fired() > start);
-        match step {
+        let before = shared.interrupts.load(Ordering::SeqCst);
+        let going = match source.advance(until) {
+            Ok(going) => going,
             Err(e) => {
                 t = t.max(ctl.sim_time().as_nanos());
                 break (Some(e.to_string()), false);
             }
-            Ok(Advance::Reached) if end.is_some_and(|e| until >= e) => {
-                t = until;
-                break (None, false);
-            }
-            Ok(Advance::Reached) => t = until,
-            Ok(Advance::Interrupted) => {
-                t = t.max(ctl.sim_time().as_nanos());
-                publish(&mut source, shared, t);
-                last_publish = Instant::now();
-                continue;
-            }
-            Ok(Advance::Finished) => {
-                t = t.max(ctl.sim_time().as_nanos());
-                break (None, false);
-            }
+        };
+        let interrupted = shared.interrupts.load(Ordering::SeqCst) != before;
+        t = if interrupted {
+            t.max(ctl.sim_time().as_nanos())
+        } else {
+            until
+        };
+        if !going || (!interrupted && end.is_some_and(|e| until >= e)) {
+            break (None, false);
         }
-        if last_publish.elapsed() >= FRAME_WALL {
-            publish(&mut source, shared, t);
+        if interrupted || last_publish.elapsed() >= FRAME_WALL {
+            publish(&mut source, &shared, t);
             last_publish = Instant::now();
         }
     };
-    publish(&mut source, shared, t);
+    publish(&mut source, &shared, t);
     shared.outcome.send_replace(Some(Outcome {
         t_ns: t,
         events: ctl.events_fired(),
@@ -318,6 +355,31 @@ fn run_loop(mut source: impl LiveSource, shared: &Shared) {
         failure,
         stopped,
     }));
+}
+
+/// Interrupts the run once `target` events have fired (the last of some steps), so the
+/// state after them is shown; gives up if the run resumes or ends first.
+fn watch_steps(shared: &Arc<Shared>, target: u64) {
+    const GIVE_UP: Duration = Duration::from_secs(60);
+    let watcher = shared.clone();
+    let spawned = std::thread::Builder::new()
+        .name("vitro-steps".into())
+        .spawn(move || {
+            let started = Instant::now();
+            let c = &watcher.control;
+            while c.events_fired() < target
+                && c.is_paused()
+                && watcher.outcome.borrow().is_none()
+                && started.elapsed() < GIVE_UP
+            {
+                std::thread::sleep(Duration::from_millis(1));
+            }
+            watcher.interrupt();
+        });
+    if spawned.is_err() {
+        // No thread to watch: interrupt now; the steps still fire, shown at the next frame.
+        shared.interrupt();
+    }
 }
 
 fn publish(source: &mut impl LiveSource, shared: &Shared, t_ns: u64) {

@@ -2,22 +2,23 @@
 
 use crate::ViewError;
 use crate::live::SourceError;
-use crate::protocol::{Command, CommandError, Hello, History, Mode, ServerMsg, Status};
+use crate::protocol::{
+    Command, CommandError, HISTORY_CAP, Hello, History, Mode, ServerMsg, Status,
+};
+use std::path::Path;
 use std::sync::{Arc, Mutex};
-use vitro_record::{Frame, Scene};
+use vitro_record::{Frame, Replay, ReplayError, Scene};
 
-/// A recording the viewer can play: a scene and frames in time order, seekable.
+/// A recording the viewer can play: a scene and frames in time order, read by index.
 pub trait Recording: Send + 'static {
     /// What is shown (scenario or file name).
     fn title(&self) -> String;
     /// The static world.
     fn scene(&self) -> Scene;
-    /// Times of the first and last frames, simulated nanoseconds.
-    fn span(&self) -> (u64, u64);
-    /// The last frame at or before `t_ns` (`None` before the first).
-    fn frame_at(&mut self, t_ns: u64) -> Result<Option<Frame>, SourceError>;
-    /// The first frame after `t_ns` (`None` after the last).
-    fn frame_after(&mut self, t_ns: u64) -> Result<Option<Frame>, SourceError>;
+    /// The time of every frame, in order, simulated nanoseconds.
+    fn times(&self) -> Vec<u64>;
+    /// Frame `i` (`None` past the end).
+    fn frame(&mut self, i: usize) -> Result<Option<Frame>, SourceError>;
 }
 
 /// A recording held in memory (tests, small runs).
@@ -47,19 +48,45 @@ impl Recording for MemoryRecording {
     fn scene(&self) -> Scene {
         self.scene.clone()
     }
-    fn span(&self) -> (u64, u64) {
-        match (self.frames.first(), self.frames.last()) {
-            (Some(a), Some(b)) => (a.t_ns, b.t_ns),
-            _ => (0, 0),
-        }
+    fn times(&self) -> Vec<u64> {
+        self.frames.iter().map(|f| f.t_ns).collect()
     }
-    fn frame_at(&mut self, t_ns: u64) -> Result<Option<Frame>, SourceError> {
-        let i = self.frames.partition_point(|f| f.t_ns <= t_ns);
-        Ok(i.checked_sub(1).map(|i| self.frames[i].clone()))
-    }
-    fn frame_after(&mut self, t_ns: u64) -> Result<Option<Frame>, SourceError> {
-        let i = self.frames.partition_point(|f| f.t_ns <= t_ns);
+    fn frame(&mut self, i: usize) -> Result<Option<Frame>, SourceError> {
         Ok(self.frames.get(i).cloned())
+    }
+}
+
+/// A Vitro recording file (MCAP), read with [`vitro_record::Replay`].
+pub struct McapRecording {
+    title: String,
+    replay: Replay,
+}
+
+impl McapRecording {
+    /// Opens the recording at `path` (indexing it; frames are read on demand).
+    pub fn open(path: &Path) -> Result<McapRecording, ReplayError> {
+        let replay = Replay::open(path)?;
+        let file = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |f| f.to_string_lossy().into_owned(),
+        );
+        let title = format!("{} ({file})", replay.scene().name);
+        Ok(McapRecording { title, replay })
+    }
+}
+
+impl Recording for McapRecording {
+    fn title(&self) -> String {
+        self.title.clone()
+    }
+    fn scene(&self) -> Scene {
+        self.replay.scene().clone()
+    }
+    fn times(&self) -> Vec<u64> {
+        self.replay.times().collect()
+    }
+    fn frame(&mut self, i: usize) -> Result<Option<Frame>, SourceError> {
+        Ok(self.replay.frame(i)?)
     }
 }
 
@@ -67,20 +94,31 @@ impl Recording for MemoryRecording {
 #[derive(Clone)]
 pub struct ReplayFeed {
     recording: Arc<Mutex<Box<dyn Recording>>>,
+    times: Arc<Vec<u64>>,
     hello: Hello,
     scene_json: Arc<str>,
     history: Arc<History>,
 }
 
 impl ReplayFeed {
-    /// Opens `recording`: reads its scene and every frame's metrics once (for the charts).
+    /// Opens `recording`: reads its scene, and the metrics of up to [`HISTORY_CAP`] frames
+    /// spread over the run (for the charts).
     pub fn new(mut recording: impl Recording) -> Result<ReplayFeed, ViewError> {
-        let (start_ns, end_ns) = recording.span();
+        let mut times = recording.times();
+        if times.windows(2).any(|w| w[0] > w[1]) {
+            times.sort_unstable();
+        }
+        let (start_ns, end_ns) = match (times.first(), times.last()) {
+            (Some(&a), Some(&b)) => (a, b),
+            _ => (0, 0),
+        };
         let mut history = History::default();
-        let mut next = recording.frame_at(start_ns).map_err(ViewError::Source)?;
-        while let Some(f) = next {
-            history.push(&f);
-            next = recording.frame_after(f.t_ns).map_err(ViewError::Source)?;
+        let every = times.len().div_ceil(HISTORY_CAP).max(1);
+        let last = times.len().saturating_sub(1);
+        for i in (0..times.len()).filter(|&i| i % every == 0 || i == last) {
+            if let Some(f) = recording.frame(i).map_err(ViewError::Source)? {
+                history.push(&f);
+            }
         }
         let scene_json = ServerMsg::Scene {
             scene: Box::new(recording.scene()),
@@ -95,6 +133,7 @@ impl ReplayFeed {
             },
             scene_json: scene_json.into(),
             history: Arc::new(history),
+            times: Arc::new(times),
             recording: Arc::new(Mutex::new(Box::new(recording))),
         })
     }
@@ -107,7 +146,7 @@ impl ReplayFeed {
     pub fn scene_json(&self) -> Arc<str> {
         self.scene_json.clone()
     }
-    /// The metrics of the whole recording.
+    /// The metrics over the recording.
     pub fn history(&self) -> History {
         (*self.history).clone()
     }
@@ -124,9 +163,25 @@ impl ReplayFeed {
         }
     }
 
-    fn with<T>(&self, f: impl FnOnce(&mut dyn Recording) -> T) -> T {
+    /// The last frame at or before `t_ns`.
+    fn frame_at(&self, t_ns: u64) -> Result<Option<Frame>, SourceError> {
+        match self.times.partition_point(|&t| t <= t_ns).checked_sub(1) {
+            Some(i) => self.frame(i),
+            None => Ok(None),
+        }
+    }
+
+    /// The first frame after `t_ns`.
+    fn frame_after(&self, t_ns: u64) -> Result<Option<Frame>, SourceError> {
+        self.frame(self.times.partition_point(|&t| t <= t_ns))
+    }
+
+    fn frame(&self, i: usize) -> Result<Option<Frame>, SourceError> {
+        if i >= self.times.len() {
+            return Ok(None);
+        }
         let mut r = self.recording.lock().unwrap_or_else(|e| e.into_inner());
-        f(r.as_mut())
+        r.frame(i)
     }
 }
 
@@ -155,7 +210,7 @@ impl Player {
                 self.paused = true;
             }
         }
-        let frame = self.feed.with(|r| r.frame_at(self.t_ns))?;
+        let frame = self.feed.frame_at(self.t_ns)?;
         Ok(self.show(frame, false))
     }
 
@@ -190,11 +245,7 @@ impl Player {
                 self.paused = true;
                 let mut out = Vec::new();
                 for _ in 0..n {
-                    let Some(f) = self
-                        .feed
-                        .with(|r| r.frame_after(self.t_ns))
-                        .map_err(failed)?
-                    else {
+                    let Some(f) = self.feed.frame_after(self.t_ns).map_err(failed)? else {
                         break;
                     };
                     self.t_ns = f.t_ns;
@@ -204,7 +255,7 @@ impl Player {
             }
             Command::Seek { t_ns } => {
                 self.t_ns = t_ns.clamp(self.feed.hello.start_ns, self.end());
-                let f = self.feed.with(|r| r.frame_at(self.t_ns)).map_err(failed)?;
+                let f = self.feed.frame_at(self.t_ns).map_err(failed)?;
                 return Ok(self.show(f, true).into_iter().collect());
             }
         }

@@ -231,3 +231,37 @@ async fn replay_plays_seeks_and_steps_per_tab() {
     let fb: Value = next_of(&mut b, "frame").await;
     assert!(fb["frame"]["t_ns"].as_u64() < Some(5_000_000_000), "{fb}");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn mcap_recordings_replay() {
+    let path = std::env::temp_dir().join(format!("vitro-viz-replay-{}.mcap", std::process::id()));
+    let scene = vitro_record::synthetic::scene();
+    let mut rec = vitro_record::Recorder::create(&path, &scene).expect("create");
+    for i in 0..40 {
+        rec.frame(&vitro_record::synthetic::frame(&scene, i, 6))
+            .expect("frame");
+    }
+    rec.finish().expect("finish");
+    let recording = vitro_viz::McapRecording::open(&path).expect("open");
+    let feed = ReplayFeed::new(recording).expect("index");
+    std::fs::remove_file(&path).expect("remove");
+    let addr = start(Feed::Replay(feed)).await;
+    let mut ws = connect(addr).await;
+    let hello = next(&mut ws).await.expect("hello");
+    let (t0, t1) = (
+        hello["start_ns"].as_u64().expect("start"),
+        hello["end_ns"].as_u64().expect("end"),
+    );
+    assert!(t1 > t0);
+    let scene_msg = next_of(&mut ws, "scene").await;
+    assert_eq!(scene_msg["scene"]["name"], scene.name.as_str());
+    let mid = t0 + (t1 - t0) / 2;
+    send(&mut ws, &format!(r#"{{"cmd":"seek","t_ns":{mid}}}"#)).await;
+    let f = wait_for(&mut ws, "frame", |v| {
+        v["frame"]["t_ns"]
+            .as_u64()
+            .is_some_and(|t| t <= mid && t + 2_000_000_000 > mid)
+    })
+    .await;
+    assert_eq!(f["frame"]["entities"].as_array().map(Vec::len), Some(6));
+}

@@ -2,7 +2,8 @@
 // its intention and plan (repaired against original), and its recent messages.
 
 import { bearing, clock, esc, num, pos } from './format.js';
-import { KIND_NAMES, symbolCanvas } from './symbols.js';
+import { isAir, KIND_NAMES, symbolCanvas } from './symbols.js';
+import { aboveGround } from './terrain.js';
 
 const MESSAGES_SHOWN = 12;
 
@@ -33,6 +34,7 @@ export class Inspector {
       ['level', esc(e.level)],
       ['status', esc(e.status)],
       ['position', pos(e.pos)],
+      ...(isAir(e.kind) ? [['altitude', `${num(aboveGround(st.scene.terrain, e.pos))} m above ground`]] : []),
       ['heading', `${bearing(e.heading)} <span class="muted">(${num(e.heading)} rad from east)</span>`],
       ['speed', `${num(e.speed)} m/s`],
       ['id', String(e.id)],
@@ -90,6 +92,6 @@ export class Inspector {
       html += '</ul>';
     }
     this.el.innerHTML = html;
-    this.el.querySelector('.sym').append(symbolCanvas(e.side, e.kind, 22));
+    this.el.querySelector('.sym').append(symbolCanvas(e.side, e.kind, 22, e.status));
   }
 }

@@ -94,11 +94,15 @@ export class Legend {
       heat: f && f.intentions.some((i) => i.heat && i.heat.length),
       belief: f && f.intentions.some((i) => i.belief && i.belief.length),
     };
-    const key = JSON.stringify([kinds, has, layers]);
+    const unseen = [...st.byId.values()].some((e) => e.status === 'undetected');
+    const key = JSON.stringify([kinds, has, layers, unseen]);
     if (key === this.key) return;
     this.key = key;
 
     const sides = SIDES.map((side) => item(symbolCanvas(side, 'none', 18), side));
+    if ([...st.byId.values()].some((e) => e.status === 'undetected')) {
+      sides.push(item(symbolCanvas('hostile', 'none', 18, 'undetected'), 'not yet detected'));
+    }
     const types = kinds.map((k) => item(symbolCanvas('friendly', k, 18), KIND_NAMES[k] || k));
     const map = [];
     if (s.streets.length) map.push(item(stroke('#fff', 4, [], '#8f959c'), 'street'));

@@ -95,7 +95,6 @@ function showTab(three) {
   $('tab3d').classList.toggle('on', three);
   $('map').hidden = three;
   map.visible = !three;
-  $('legend').hidden = three;
   $('hint').textContent = three ? 'drag to orbit · right-drag to pan · wheel to zoom' : 'drag to pan · wheel to zoom · click an entity to inspect it';
   view3d.show(three);
   if (!three) map.invalidate(true);

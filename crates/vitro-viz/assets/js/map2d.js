@@ -56,6 +56,18 @@ export class Map2D {
     this.invalidate(true);
   }
 
+  /**
+   * Frames the world box [x0, y0, x1, y1] (e.g. where the entities are) in the canvas, above
+   * `insetBottom` pixels (e.g. the legend's).
+   */
+  fitTo([x0, y0, x1, y1], insetBottom = 0) {
+    const h = Math.max(1, this.h - insetBottom);
+    this.view.scale = Math.min(this.w / Math.max(1, x1 - x0), h / Math.max(1, y1 - y0));
+    this.view.cx = (x0 + x1) / 2;
+    this.view.cy = (y0 + y1) / 2 - insetBottom / 2 / this.view.scale;
+    this.invalidate(true);
+  }
+
   /** World [x, y] to canvas pixels (CSS). */
   toScreen(p) {
     const v = this.view;

@@ -2,7 +2,8 @@
 // trails, messages, lines of sight, entities, labels, scale.
 
 import { layers } from './layers.js';
-import { drawSymbol, STROKE } from './symbols.js';
+import { drawSymbol, isAir, STROKE } from './symbols.js';
+import { aboveGround } from './terrain.js';
 
 const SYMBOL = 9; // symbol half-size, pixels
 const MESSAGE_SHOWN_NS = 2e9; // messages stay on the map this long (simulated)
@@ -76,6 +77,8 @@ function sensors(ctx, map, st) {
   for (const s of st.frame.sensors || []) {
     const e = st.byId.get(s.id);
     if (!e) continue;
+    const mine = s.id === st.selected;
+    if (!(layers.sensors || mine)) continue;
     const [x, y] = map.toScreen(e.pos);
     const r = s.range * map.view.scale;
     ctx.beginPath();
@@ -87,9 +90,10 @@ function sensors(ctx, map, st) {
       ctx.arc(x, y, r, -s.heading - s.fov / 2, -s.heading + s.fov / 2);
       ctx.closePath();
     }
-    ctx.fillStyle = e.side === 'hostile' ? 'rgba(255,80,80,0.10)' : 'rgba(40,140,255,0.10)';
-    ctx.strokeStyle = e.side === 'hostile' ? 'rgba(200,40,40,0.5)' : 'rgba(20,90,200,0.5)';
-    ctx.lineWidth = 1;
+    const rgb = e.side === 'hostile' ? '200,40,40' : '20,100,210';
+    ctx.fillStyle = `rgba(${rgb},${mine ? 0.16 : 0.05})`;
+    ctx.strokeStyle = `rgba(${rgb},${mine ? 0.8 : 0.3})`;
+    ctx.lineWidth = mine ? 1.5 : 1;
     ctx.fill();
     ctx.stroke();
   }
@@ -152,8 +156,8 @@ function detections(ctx, map, st) {
 
 function entities(ctx, map, st) {
   const list = [...st.byId.values()];
-  // aircraft on top of ground units
-  list.sort((a, b) => a.pos[2] - b.pos[2]);
+  // aircraft on top of ground units, the selected entity on top of all
+  list.sort((a, b) => (a.id === st.selected) - (b.id === st.selected) || a.pos[2] - b.pos[2]);
   for (const e of list) {
     const [x, y] = map.toScreen(e.pos);
     if (x < -40 || y < -40 || x > map.w + 40 || y > map.h + 40) continue;
@@ -173,7 +177,7 @@ function entities(ctx, map, st) {
       ctx.textBaseline = 'middle';
       ctx.lineWidth = 3;
       ctx.strokeStyle = 'rgba(255,255,255,0.85)';
-      const label = e.pos[2] > 20 ? `${e.name} ${Math.round(e.pos[2])} m` : e.name;
+      const label = isAir(e.kind) ? `${e.name} ${Math.round(aboveGround(st.scene.terrain, e.pos))} m` : e.name;
       ctx.strokeText(label, x + SYMBOL * 1.5 + 2, y + SYMBOL + 2);
       ctx.fillStyle = '#111';
       ctx.fillText(label, x + SYMBOL * 1.5 + 2, y + SYMBOL + 2);
@@ -222,7 +226,7 @@ export function drawDynamic(ctx, map) {
   const st = map.state;
   if (st.frame && st.scene) {
     minds(ctx, map, st);
-    if (layers.sensors) sensors(ctx, map, st);
+    sensors(ctx, map, st);
     if (layers.trails) trails(ctx, map, st);
     if (layers.messages) messages(ctx, map, st);
     if (layers.detections) detections(ctx, map, st);

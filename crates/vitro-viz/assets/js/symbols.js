@@ -7,7 +7,9 @@ export const SIDES = ['friendly', 'hostile', 'neutral', 'unknown'];
 export const FILL = { friendly: '#80e0ff', hostile: '#ff8080', neutral: '#aaffaa', unknown: '#ffff80' };
 export const STROKE = { friendly: '#00557a', hostile: '#a00000', neutral: '#1d6b1d', unknown: '#8a7a00' };
 
-const AIR = new Set(['ctol', 'vtol', 'uav', 'aircraft', 'helicopter', 'drone']);
+const AIR = new Set(['procerus', 'vidar', 'skeldar', 'ctol', 'vtol', 'uav', 'aircraft', 'helicopter', 'drone']);
+const FIXED_WING = new Set(['procerus', 'ctol']);
+const ROTARY_WING = new Set(['vidar', 'skeldar', 'vtol', 'helicopter']);
 
 /** True for entity types drawn as aircraft. */
 export function isAir(kind) {
@@ -18,10 +20,13 @@ export function isAir(kind) {
 export const KIND_NAMES = {
   truck: 'cargo truck',
   car: 'car',
-  ugv: 'UGV (ground robot)',
+  ugv: 'UGV (MDARS ground robot)',
   trooper: 'trooper',
-  vip: 'VIP',
+  vip: 'VIP (to evacuate)',
   hvt: 'high-value target',
+  procerus: 'fixed-wing UAV (Procerus)',
+  vidar: 'helicopter UAV (Vidar)',
+  skeldar: 'helicopter UAV (Skeldar)',
   ctol: 'fixed-wing UAV',
   vtol: 'helicopter UAV',
 };
@@ -52,6 +57,8 @@ function framePath(ctx, side, air, s) {
 }
 
 function icon(ctx, kind, side, s) {
+  if (FIXED_WING.has(kind)) kind = 'ctol';
+  if (ROTARY_WING.has(kind)) kind = 'vtol';
   const w = side === 'friendly' && !isAir(kind) ? s * 1.3 : s * 0.7;
   const h = side === 'friendly' && !isAir(kind) ? s * 0.85 : s * 0.7;
   ctx.beginPath();
@@ -141,12 +148,17 @@ export function drawSymbol(ctx, x, y, s, side, kind, heading = null, status = 'a
     ctx.lineTo(dx - 5 * Math.cos(a + 0.45), dy - 5 * Math.sin(a + 0.45));
     ctx.stroke();
   }
+  // APP-6: a dashed frame for what is not confirmed (here: not yet detected by the team)
+  const unseen = status === 'undetected';
+  if (unseen) ctx.globalAlpha = 0.6;
   framePath(ctx, side, air, s);
   ctx.fillStyle = FILL[side] || FILL.unknown;
   ctx.fill();
   ctx.lineWidth = 1.4;
   ctx.strokeStyle = '#000';
+  if (unseen) ctx.setLineDash([3, 2]);
   ctx.stroke();
+  ctx.setLineDash([]);
   ctx.fillStyle = '#000';
   ctx.strokeStyle = '#000';
   ctx.lineWidth = 1.1;
@@ -165,7 +177,7 @@ export function drawSymbol(ctx, x, y, s, side, kind, heading = null, status = 'a
 }
 
 /** A small canvas with one symbol, for the legend and the inspector. */
-export function symbolCanvas(side, kind, size = 22) {
+export function symbolCanvas(side, kind, size = 22, status = 'active') {
   const c = document.createElement('canvas');
   const dpr = window.devicePixelRatio || 1;
   c.width = Math.round(size * 1.6 * dpr);
@@ -174,6 +186,6 @@ export function symbolCanvas(side, kind, size = 22) {
   c.style.height = `${size}px`;
   const ctx = c.getContext('2d');
   ctx.scale(dpr, dpr);
-  drawSymbol(ctx, size * 0.8, size / 2, size * 0.36, side, kind);
+  drawSymbol(ctx, size * 0.8, size / 2, size * 0.36, side, kind, null, status);
   return c;
 }

@@ -4,8 +4,9 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
 import { layers } from './layers.js';
-import { isAir } from './symbols.js';
-import { buildWorld, groundAt, label } from './world3d.js';
+import { isAir, symbolCanvas } from './symbols.js';
+import { groundAt } from './terrain.js';
+import { buildWorld, label } from './world3d.js';
 
 const SIDE_COLOR = { friendly: 0x2f86d6, hostile: 0xd63a3a, neutral: 0x2fa05a, unknown: 0xd6c02f };
 const LOS_COLOR = { friendly: 0x1060c0, hostile: 0xc01010, neutral: 0x108040, unknown: 0xa09000 };
@@ -141,6 +142,18 @@ export class View3D {
     }
   }
 
+  /** Looks at the world box [x0, y0, x1, y1] from the south, 40° down. */
+  lookAtBox([x0, y0, x1, y1]) {
+    if (!this.init()) return;
+    const t = this.state.scene.terrain;
+    const cx = (x0 + x1) / 2;
+    const cy = (y0 + y1) / 2;
+    const cz = groundAt(t, cx, cy);
+    const d = Math.max(x1 - x0, y1 - y0, 100) * 1.1;
+    this.controls.target.set(cx, cy, cz);
+    this.camera.position.set(cx - 0.2 * d, cy - 0.8 * d, cz + 0.7 * d);
+  }
+
   setFollow(id) {
     this.follow = id;
     const e = id != null ? this.state.byId.get(id) : null;
@@ -159,22 +172,31 @@ export class View3D {
     const seen = new Set();
     for (const e of st.frame.entities) {
       seen.add(e.id);
-      const key = `${e.kind}/${e.side}/${e.name}`;
+      const key = `${e.kind}/${e.side}/${e.name}/${e.status}`;
       let ent = this.entities.get(e.id);
       if (!ent || ent.key !== key) {
-        if (ent) this.dynamic.remove(ent.group);
+        if (ent) {
+          this.dynamic.remove(ent.group);
+          if (ent.stalk) this.dynamic.remove(ent.stalk);
+        }
         const group = new THREE.Group();
         const model = body(e.kind, e.side, this.k);
-        const tag = label(e.name, '#111', 0.022);
-        tag.position.set(0, 0, 4 * this.k);
-        group.add(model, tag);
+        // the map symbol, always facing the camera and the same size on screen
+        const tex = new THREE.CanvasTexture(symbolCanvas(e.side, e.kind, 40, e.status));
+        tex.colorSpace = THREE.SRGBColorSpace;
+        const sym = new THREE.Sprite(new THREE.SpriteMaterial({ map: tex, sizeAttenuation: false, depthTest: false }));
+        sym.scale.set(0.05 * 1.6, 0.05, 1);
+        sym.renderOrder = 11;
+        const tag = label(e.name, '#111', 0.02);
+        tag.center.set(0.5, -1.4);
+        group.add(model, sym, tag);
         let stalk = null;
         if (isAir(e.kind)) {
           const geo = new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3()]);
-          stalk = new THREE.Line(geo, new THREE.LineBasicMaterial({ color: 0x555555 }));
+          stalk = new THREE.Line(geo, new THREE.LineBasicMaterial({ color: 0x333333 }));
           this.dynamic.add(stalk);
         }
-        ent = { group, model, tag, stalk, key };
+        ent = { group, model, sym, tag, stalk, key };
         this.entities.set(e.id, ent);
         this.dynamic.add(group);
       }

@@ -2,22 +2,9 @@
 // bridges, forbidden zones and places draped on the ground.
 
 import * as THREE from 'three';
+import { groundAt } from './terrain.js';
 
 const MAX_GRID = 256; // terrain samples per side drawn at most
-
-/** Ground height at world (x, y): bilinear in the heightmap, clamped at its edges. */
-export function groundAt(t, x, y) {
-  if (!t || !t.z.length) return 0;
-  const fx = Math.min(t.nx - 1, Math.max(0, (x - t.origin[0]) / t.cell));
-  const fy = Math.min(t.ny - 1, Math.max(0, (y - t.origin[1]) / t.cell));
-  const i = Math.min(t.nx - 2, Math.floor(fx));
-  const j = Math.min(t.ny - 2, Math.floor(fy));
-  if (i < 0 || j < 0) return t.z[0];
-  const u = fx - i;
-  const v = fy - j;
-  const z = (a, b) => t.z[b * t.nx + a];
-  return (1 - v) * ((1 - u) * z(i, j) + u * z(i + 1, j)) + v * ((1 - u) * z(i, j + 1) + u * z(i + 1, j + 1));
-}
 
 function terrainMesh(scene) {
   const t = scene.terrain;

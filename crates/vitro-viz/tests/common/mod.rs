@@ -14,7 +14,7 @@ use vitro::prelude::*;
 use vitro::sim::Control;
 use vitro_record::{EntityState, Frame, Geo, Heightmap, Scene, Side};
 use vitro_viz::server::{Feed, serve};
-use vitro_viz::{Advance, LiveSource, SourceError, advance_sim};
+use vitro_viz::{LiveSource, SourceError, advance_sim};
 
 /// Walkers that step around a circle at random intervals.
 pub struct Toy;
@@ -119,12 +119,8 @@ impl LiveSource for ToySource {
     fn end_ns(&self) -> Option<u64> {
         Some(self.end_ns)
     }
-    fn advance(
-        &mut self,
-        until_ns: u64,
-        interrupt: &mut dyn FnMut() -> bool,
-    ) -> Result<Advance, SourceError> {
-        Ok(advance_sim(&mut self.sim, until_ns, interrupt))
+    fn advance(&mut self, until_ns: u64) -> Result<bool, SourceError> {
+        Ok(advance_sim(&mut self.sim, until_ns))
     }
     fn frame(&mut self, t_ns: u64) -> Frame {
         let entities = (0..WALKERS)
