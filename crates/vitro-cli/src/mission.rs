@@ -240,6 +240,15 @@ fn print_summary(r: &Report) {
         m.messages_sent, m.messages_lost
     );
     println!(
+        "cover plan    {} repairs{}",
+        m.plan_repairs,
+        if m.plan_cuts > 0 {
+            format!(", {} cut by the depth bound", m.plan_cuts)
+        } else {
+            String::new()
+        }
+    );
+    println!(
         "time          {:.1} s simulated in {:.3} s wall ({:.0}x real time), {} events ({:.0}/s)",
         m.sim_time_s, r.wall_time_s, r.sim_s_per_wall_s, m.events, r.events_per_wall_s
     );

@@ -27,6 +27,7 @@ fn run_json_reports_the_mission() {
         "time_uncovered_s",
         "hvt_captured",
         "messages_sent",
+        "plan_repairs",
     ] {
         assert!(v.get(key).is_some(), "missing {key} in {v}");
     }

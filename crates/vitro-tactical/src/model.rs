@@ -79,6 +79,8 @@ pub struct Intention {
     pub plan: Vec<String>,
     /// The path it means to follow, world metres.
     pub path: Vec<[f64; 3]>,
+    /// The plan as first made, where the current one is a repair of it.
+    pub original_plan: Vec<String>,
 }
 
 impl Agent<Tactical> for Box<dyn Controller> {

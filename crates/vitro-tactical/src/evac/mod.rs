@@ -269,6 +269,13 @@ impl Mission {
             if let Some(a) = agent.and_then(|a| a.downcast_ref::<agents::red::Adversary>()) {
                 m.shots += u64::from(a.shots);
             }
+            let cover = agent
+                .and_then(|a| a.downcast_ref::<agents::air::Aircraft>())
+                .and_then(|a| a.cover.as_ref());
+            if let Some(c) = cover {
+                m.plan_repairs += c.repairs;
+                m.plan_cuts += c.cuts;
+            }
         }
         m
     }

@@ -40,6 +40,10 @@ pub struct Metrics {
     pub messages_sent: u64,
     /// Messages lost on the channel.
     pub messages_lost: u64,
+    /// Repairs of the Vidars' cover plan.
+    pub plan_repairs: u64,
+    /// Cover-plan repairs cut by the depth bound (`repair.max_depth`).
+    pub plan_cuts: u64,
     /// Shots fired by the adversaries.
     pub shots: u64,
     /// Events fired.

@@ -22,6 +22,7 @@ use crate::types::{CtolKind, GroundKind, TroopKind, TypeBook, VtolKind};
 use crate::world::Side;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::collections::BTreeSet;
 use std::sync::Arc;
 use vitro::comm::LinkParams;
 use vitro::entity::EntityId;
@@ -150,13 +151,34 @@ fn board(site: &Site, walk: &FreeGraph) -> Result<Board, MissionError> {
 /// A random main-part node of `g` between `near` and `far` metres from `from` (town
 /// metres), or the nearest one to `from` if none is.
 fn random_node(g: &FreeGraph, rng: &mut ChaCha8Rng, from: P2, near: f64, far: f64) -> NodeId {
+    random_free_node(g, rng, from, near, far, &BTreeSet::new())
+}
+
+/// [`random_node`] avoiding the nodes in `taken`.
+fn random_free_node(
+    g: &FreeGraph,
+    rng: &mut ChaCha8Rng,
+    from: P2,
+    near: f64,
+    far: f64,
+    taken: &BTreeSet<NodeId>,
+) -> NodeId {
     let candidates: Vec<NodeId> = (0..g.graph.node_count() as u32)
         .map(NodeId)
-        .filter(|&n| g.main[n.0 as usize])
+        .filter(|&n| g.main[n.0 as usize] && !taken.contains(&n))
         .filter(|&n| (near..=far).contains(&dist(node_pos(g, n), from)))
         .collect();
     if candidates.is_empty() {
-        return g.nearest_connected(from).unwrap_or(NodeId(0));
+        // The free main-part node nearest to `from`.
+        return (0..g.graph.node_count() as u32)
+            .map(NodeId)
+            .filter(|&n| g.main[n.0 as usize] && !taken.contains(&n))
+            .min_by(|&a, &b| {
+                dist(node_pos(g, a), from)
+                    .total_cmp(&dist(node_pos(g, b), from))
+                    .then(a.cmp(&b))
+            })
+            .unwrap_or(NodeId(0));
     }
     candidates[rng.random_range(0..candidates.len())]
 }
@@ -251,6 +273,8 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, MissionError> {
     });
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5ce1_a410);
     let mut aircraft_slot = 0;
+    // Drive-graph nodes holding a vehicle: two rigid bodies must not start in one place.
+    let mut taken = BTreeSet::new();
     for m in &members {
         let agent: Box<dyn Controller> = match m.role {
             Role::Truck => Box::new(Commander::new(
@@ -287,12 +311,14 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, MissionError> {
                     _ => AirRole::Scout,
                 };
                 let height = m.altitude.unwrap_or(100.0);
-                Box::new(Aircraft::new(
-                    brief.clone(),
-                    Pilot { level: m.level },
-                    role,
-                    height,
-                ))
+                let pilot = Pilot { level: m.level };
+                match role {
+                    AirRole::Cover { slot } => {
+                        let team = find(Role::Vidar).map(|v| v.id).collect();
+                        Box::new(Aircraft::cover(brief.clone(), pilot, team, slot, height))
+                    }
+                    _ => Box::new(Aircraft::new(brief.clone(), pilot, role, height)),
+                }
             }
         };
         let id = sim
@@ -304,7 +330,7 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, MissionError> {
                 m.name
             )));
         }
-        place(&mut sim, m, &brief, &mut rng)?;
+        place(&mut sim, m, &brief, &mut rng, &mut taken)?;
     }
     for m in &members {
         sim.schedule(SimTime::ZERO, Target::Entity(m.id), Ev::Start)
@@ -323,6 +349,7 @@ fn place(
     m: &Member,
     brief: &Brief,
     rng: &mut ChaCha8Rng,
+    taken: &mut BTreeSet<NodeId>,
 ) -> Result<(), MissionError> {
     let roads = brief.roads.clone();
     let (drive, walk) = (roads.of(Mode::Drive), roads.of(Mode::Walk));
@@ -339,15 +366,25 @@ fn place(
     match m.role {
         Role::Truck => {
             let n = at(drive, m.start, start_town);
+            taken.insert(n);
             w.add_vehicle(m.id, GroundKind::CargoTruck, m.level, n, heading)
                 .map_err(err)?;
         }
         Role::Car | Role::Ugv => {
             let n = match (m.role, m.start) {
-                (_, Some(p)) => at(drive, Some(p), p),
-                (Role::Ugv, None) => at(drive, None, start_town),
-                _ => random_node(drive, rng, [0.0, 0.0], 0.0, 1.0e9),
+                // The junction nearest the start that no other vehicle holds.
+                (_, Some(p)) => random_free_node(drive, rng, p, 0.0, 0.0, taken),
+                // The UGV starts a few junctions ahead of the truck on its route.
+                (Role::Ugv, None) => brief
+                    .route
+                    .iter()
+                    .copied()
+                    .skip(2)
+                    .find(|n| !taken.contains(n))
+                    .unwrap_or_else(|| random_free_node(drive, rng, start_town, 0.0, 1.0e9, taken)),
+                _ => random_free_node(drive, rng, [0.0, 0.0], 0.0, 1.0e9, taken),
             };
+            taken.insert(n);
             let kind = if m.role == Role::Car {
                 GroundKind::Car
             } else {

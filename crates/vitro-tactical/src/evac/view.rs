@@ -182,6 +182,7 @@ impl Mission {
                     text: i.text,
                     plan: i.plan,
                     path: i.path,
+                    original_plan: i.original_plan,
                     ..Intention::default()
                 })
             })
@@ -226,6 +227,7 @@ pub fn metric_map(m: &super::Metrics) -> BTreeMap<String, f64> {
     out.insert("time_uncovered_s".into(), m.time_uncovered_s);
     out.insert("hvt_captured".into(), b(m.hvt_captured));
     out.insert("messages_sent".into(), m.messages_sent as f64);
+    out.insert("plan_repairs".into(), m.plan_repairs as f64);
     out.insert("shots".into(), m.shots as f64);
     out
 }

@@ -9,8 +9,9 @@
 //! - [`Ugv`]: drives to the junctions ahead of the truck.
 
 use super::commander::truck_pose;
-use super::{Reporter, SENSE};
-use crate::arena::Ev;
+use super::cover::{CoverPlanner, Repair, checkpoints, nearest};
+use super::{Reporter, SENSE, tell};
+use crate::arena::{Ev, TrackTarget};
 use crate::condition::Status;
 use crate::entity::air::FlightCommand;
 use crate::evac::act::{Drive, Pilot};
@@ -18,7 +19,9 @@ use crate::evac::brief::{BLUE, Brief};
 use crate::evac::sense::{Myself, Vision};
 use crate::map::Mode;
 use crate::model::{Controller, Intention, Tactical};
+use crate::radio::Radio;
 use std::sync::Arc;
+use vitro::entity::EntityId;
 use vitro::env::NodeId;
 use vitro::sim::{Context, Input};
 use vitro::time::SimDuration;
@@ -69,6 +72,13 @@ pub struct Aircraft {
     pub height: f64,
     reporter: Reporter,
     path: Vec<[f64; 3]>,
+    /// The cover plan, on the lead Vidar.
+    pub cover: Option<CoverPlanner>,
+    /// Cover checkpoints to fly to, in order (Vidars).
+    queue: Vec<usize>,
+    /// The checkpoints of the last waypoint command.
+    flying: Vec<usize>,
+    points: Vec<[f64; 3]>,
 }
 
 impl Aircraft {
@@ -81,6 +91,97 @@ impl Aircraft {
             height,
             reporter: Reporter::default(),
             path: Vec::new(),
+            cover: None,
+            queue: Vec::new(),
+            flying: Vec::new(),
+            points: Vec::new(),
+        }
+    }
+
+    /// A Vidar of the cover team `team` (in slot order); the first plans for all.
+    pub fn cover(
+        brief: Arc<Brief>,
+        pilot: Pilot,
+        team: Vec<EntityId>,
+        slot: usize,
+        height: f64,
+    ) -> Self {
+        let lead = slot == 0;
+        let mut a = Aircraft::new(brief.clone(), pilot, AirRole::Cover { slot }, height);
+        a.points = checkpoints(&brief);
+        if lead {
+            a.cover = Some(CoverPlanner::new(&brief, team));
+        }
+        a
+    }
+
+    /// The lead's turn: makes or repairs the cover plan and hands out the steps.
+    fn lead_cover(&mut self, cx: &mut Context<'_, Tactical>) {
+        let Some(truck) = truck_pose(cx, self.brief.truck) else {
+            return;
+        };
+        let Some(planner) = self.cover.as_mut() else {
+            return;
+        };
+        let k = nearest(&planner.points, truck);
+        let team = planner.team.clone();
+        let now: Vec<usize> = team
+            .iter()
+            .map(|&id| {
+                cx.sense(&TrackTarget(id))
+                    .map_or(0, |p| nearest(&planner.points, p.pos))
+            })
+            .collect();
+        let Some(Repair { steps, replace, .. }) = planner.update(k, &now) else {
+            return;
+        };
+        let me = cx.me();
+        for (id, mine) in team.into_iter().zip(steps) {
+            if mine.is_empty() && !replace {
+                continue;
+            }
+            if id == me {
+                self.take_steps(mine, replace, cx);
+            } else {
+                let mut body = vec![if replace { "replace" } else { "append" }.to_string()];
+                body.extend(mine.iter().map(|c| format!("c{c}")));
+                tell(cx, id, Radio::Plan(body));
+            }
+        }
+    }
+
+    /// Takes new cover steps and flies them.
+    fn take_steps(&mut self, steps: Vec<usize>, replace: bool, cx: &mut Context<'_, Tactical>) {
+        if replace {
+            self.queue = steps;
+        } else {
+            self.queue.extend(steps);
+        }
+        let points: Vec<[f64; 3]> = self
+            .queue
+            .iter()
+            .filter_map(|&c| self.points.get(c).copied())
+            .map(|p| self.above(p))
+            .collect();
+        if points.is_empty() {
+            return;
+        }
+        self.flying = self.queue.clone();
+        self.path = points.clone();
+        let _ = cx.act(
+            &self.pilot,
+            FlightCommand::Waypoints {
+                points,
+                speed: None,
+            },
+        );
+    }
+
+    /// Waypoint `i` of the last command reached: drops the steps flown.
+    fn reached(&mut self, i: usize) {
+        let Some(&c) = self.flying.get(i) else { return };
+        if let Some(j) = self.queue.iter().position(|&q| q == c) {
+            self.queue.drain(..=j);
         }
     }
 
@@ -96,6 +197,10 @@ impl Aircraft {
     }
 
     fn plan(&mut self, cx: &mut Context<'_, Tactical>) {
+        if let AirRole::Cover { .. } = self.role {
+            self.lead_cover(cx);
+            return;
+        }
         let Some(truck) = truck_pose(cx, self.brief.truck) else {
             return;
         };
@@ -145,7 +250,22 @@ impl Controller for Aircraft {
             }
             Input::Timer(PLAN) => {
                 self.plan(cx);
-                cx.set_timer(SimDuration::from_secs_f64(PLAN_S), PLAN);
+                let again = !matches!(self.role, AirRole::Cover { .. }) || self.cover.is_some();
+                if again {
+                    cx.set_timer(SimDuration::from_secs_f64(PLAN_S), PLAN);
+                }
+            }
+            Input::Event(Ev::Waypoint(i)) => self.reached(*i as usize),
+            Input::Message(env) => {
+                if let Radio::Plan(body) = &env.body
+                    && let Some((how, rest)) = body.split_first()
+                {
+                    let steps = rest
+                        .iter()
+                        .filter_map(|c| c.strip_prefix('c')?.parse().ok())
+                        .collect();
+                    self.take_steps(steps, how == "replace", cx);
+                }
             }
             Input::Timer(SENSE) => {
                 let active = cx
@@ -167,10 +287,18 @@ impl Controller for Aircraft {
             AirRole::Cover { .. } => "cover the team from ahead",
             AirRole::Scout => "scout the route ahead",
         };
+        let (plan, original_plan) = match &self.cover {
+            Some(c) => (c.current.clone(), c.original.clone()),
+            None => (
+                self.queue.iter().map(|c| format!("fly to c{c}")).collect(),
+                Vec::new(),
+            ),
+        };
         Some(Intention {
             text: text.into(),
             path: self.path.clone(),
-            ..Intention::default()
+            plan,
+            original_plan,
         })
     }
 }

@@ -3,6 +3,7 @@
 //! splits off pursuers when the high-value target is reported.
 
 use super::{SENSE, tell};
+use crate::actuate::MoveError;
 use crate::arena::{Ev, TrackTarget};
 use crate::condition::Status;
 use crate::evac::act::{Dismount, Drive};
@@ -57,6 +58,8 @@ pub struct Commander {
     hunt_pending: bool,
     /// When each phase began.
     pub log: Vec<(SimTime, Phase)>,
+    /// The last refusal of the drive actuator, if the last leg was refused.
+    pub refused: Option<MoveError>,
 }
 
 impl Commander {
@@ -74,6 +77,7 @@ impl Commander {
             hunters: Vec::new(),
             hunt_pending: false,
             log: Vec::new(),
+            refused: None,
         }
     }
 
@@ -92,8 +96,7 @@ impl Commander {
 
     fn drive_leg(&mut self, cx: &mut Context<'_, Tactical>) {
         if let Some(&goal) = self.legs().get(self.leg) {
-            // A refusal (under way) cannot happen: legs start on arrival.
-            let _ = cx.act(&self.drive, goal);
+            self.refused = cx.act(&self.drive, goal).err();
         }
     }
 
@@ -308,8 +311,12 @@ impl Controller for Commander {
         if !self.hunters.is_empty() {
             plan.push(format!("{} pursuers after the HVT", self.hunters.len()));
         }
+        if let Some(e) = &self.refused {
+            plan.push(format!("cannot drive: {e}"));
+        }
         Some(Intention {
             text: what.into(),
+            original_plan: Vec::new(),
             plan,
             path: if matches!(self.phase, Phase::Out | Phase::Back) {
                 rest

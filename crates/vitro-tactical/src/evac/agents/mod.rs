@@ -3,6 +3,7 @@
 
 pub mod air;
 pub mod commander;
+pub mod cover;
 pub mod hunt;
 pub mod red;
 pub mod trooper;

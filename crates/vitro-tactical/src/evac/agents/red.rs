@@ -223,8 +223,8 @@ impl Controller for Hvt {
             .collect();
         Some(Intention {
             text: format!("evade ({}, turn {})", self.search.name(), self.turns),
-            plan: Vec::new(),
             path,
+            ..Intention::default()
         })
     }
 }

@@ -299,6 +299,11 @@ impl Controller for Trooper {
             .into_iter()
             .collect();
         let plan = self.hunt.as_ref().map(|h| h.plan()).unwrap_or_default();
-        Some(Intention { text, plan, path })
+        Some(Intention {
+            text,
+            plan,
+            path,
+            ..Intention::default()
+        })
     }
 }
