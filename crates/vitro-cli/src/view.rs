@@ -5,6 +5,7 @@
 //! RUN.mcap` replays a recording. The page, its scripts and three.js come from the binary.
 
 mod demo;
+mod mission;
 
 use crate::Failure;
 use anyhow::{Context as _, anyhow};
@@ -12,10 +13,13 @@ use clap::Args;
 use std::io::Write as _;
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
+use vitro::time::SimTime;
 use vitro_demo::Scenario;
 use vitro_demo::config::{ConfigError, DemoConfig, MAX_END_S};
+use vitro_tactical::evac::Mission;
+use vitro_tactical::scenario::ScenarioFile;
 use vitro_viz::server::{Feed, serve};
-use vitro_viz::{LiveRun, Outcome};
+use vitro_viz::{LiveRun, McapRecording, Outcome, ReplayFeed, ViewError};
 
 #[derive(Debug, Args)]
 pub(crate) struct ViewArgs {
@@ -44,16 +48,40 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
     let feed = if is_recording {
-        return Err(Failure::Input(anyhow!(
-            "{}: replaying recordings is not available yet (vitro-record's Replay)",
-            args.target.display()
-        )));
-    } else {
-        let source = demo_source(args)?;
-        let run = LiveRun::start(source, Some(args.speed), args.paused)
-            .context("--speed")
+        let recording = McapRecording::open(&args.target)
+            .with_context(|| format!("cannot replay {}", args.target.display()))
             .map_err(Failure::Input)?;
-        Feed::Live(run)
+        let feed = ReplayFeed::new(recording)
+            .with_context(|| format!("cannot replay {}", args.target.display()))
+            .map_err(Failure::Input)?;
+        Feed::Replay(feed)
+    } else {
+        let until = until_ns(args.until)?;
+        let run = if crate::mission::is_mission(&args.target) {
+            // A mission cannot move between threads: it is built on its simulation thread.
+            let validated = ScenarioFile::validate(&args.target).map_err(|d| {
+                Failure::Input(
+                    anyhow::Error::new(d)
+                        .context(format!("invalid scenario {}", args.target.display())),
+                )
+            })?;
+            let seed = args.seed.unwrap_or_else(|| seed_in(&args.target));
+            let given = args.seed;
+            let build = move || {
+                let mut m = Mission::build(validated, given)?;
+                if let Some(u) = until {
+                    m.end = m.end.min(SimTime::from_nanos(u));
+                }
+                Ok(mission::MissionSource::new(m, seed))
+            };
+            LiveRun::spawn(build, Some(args.speed), args.paused)
+        } else {
+            LiveRun::start(demo_source(args, until)?, Some(args.speed), args.paused)
+        };
+        Feed::Live(run.map_err(|e| match e {
+            ViewError::Speed(_) => Failure::Input(anyhow::Error::new(e).context("--speed")),
+            e => Failure::Runtime(anyhow::Error::new(e).context("cannot start the run")),
+        })?)
     };
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
@@ -118,18 +146,35 @@ fn report(o: &Outcome) {
     ));
 }
 
-fn demo_source(args: &ViewArgs) -> Result<demo::DemoSource, Failure> {
+/// `--until` in nanoseconds, checked.
+fn until_ns(until: Option<f64>) -> Result<Option<u64>, Failure> {
+    match until {
+        None => Ok(None),
+        Some(u) if u > 0.0 && u <= MAX_END_S => Ok(Some(SimTime::from_secs_f64(u).as_nanos())),
+        Some(u) => Err(Failure::Input(anyhow!(
+            "--until {u}: expected a number of simulated seconds in (0, {MAX_END_S:e}]"
+        ))),
+    }
+}
+
+/// The seed a scenario file states (0 if it states none: the mission's loader has already
+/// accepted the file).
+fn seed_in(path: &Path) -> u64 {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| t.parse::<toml::Table>().ok())
+        .and_then(|t| t.get("seed").and_then(toml::Value::as_integer))
+        .and_then(|s| u64::try_from(s).ok())
+        .unwrap_or(0)
+}
+
+fn demo_source(args: &ViewArgs, until: Option<u64>) -> Result<demo::DemoSource, Failure> {
     let mut cfg = load_demo(&args.target)?;
     if let Some(seed) = args.seed {
         cfg.seed = seed;
     }
-    if let Some(until) = args.until {
-        if !(until > 0.0 && until <= MAX_END_S) {
-            return Err(Failure::Input(anyhow!(
-                "--until {until}: expected a number of simulated seconds in (0, {MAX_END_S:e}]"
-            )));
-        }
-        cfg.end_s = until;
+    if let Some(u) = until {
+        cfg.end_s = SimTime::from_nanos(u).as_secs_f64();
     }
     let scenario = Scenario::build(cfg).map_err(|e| Failure::Input(e.into()))?;
     Ok(demo::DemoSource::new(scenario))

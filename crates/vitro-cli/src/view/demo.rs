@@ -10,7 +10,7 @@ use vitro_demo::patrol::{PatrolMsg, Patroller};
 use vitro_demo::{Demo, Scenario};
 use vitro_record::frame::SensorFootprint;
 use vitro_record::{EntityState, Frame, Geo, Heightmap, Intention, MessageEvent, Scene, Side};
-use vitro_viz::{Advance, LiveSource, SourceError, advance_sim};
+use vitro_viz::{LiveSource, SourceError, advance_sim};
 
 /// Margin around the town on the map, metres.
 const MARGIN_M: f64 = 60.0;
@@ -241,12 +241,8 @@ impl LiveSource for DemoSource {
         Some(self.scenario.end().as_nanos())
     }
 
-    fn advance(
-        &mut self,
-        until_ns: u64,
-        interrupt: &mut dyn FnMut() -> bool,
-    ) -> Result<Advance, SourceError> {
-        let step = advance_sim(self.scenario.simulation_mut(), until_ns, interrupt);
+    fn advance(&mut self, until_ns: u64) -> Result<bool, SourceError> {
+        let going = advance_sim(self.scenario.simulation_mut(), until_ns);
         let sim = self.scenario.simulation();
         for &car in self.scenario.cars() {
             if let Some(reason) = sim.agent(car).and_then(Patroller::failure) {
@@ -254,7 +250,7 @@ impl LiveSource for DemoSource {
                 return Err(format!("{name} failed at t={}: {reason}", sim.now()).into());
             }
         }
-        Ok(step)
+        Ok(going)
     }
 
     fn frame(&mut self, t_ns: u64) -> Frame {
