@@ -20,7 +20,4 @@ trap 'rm -rf "$scratch"' EXIT
 (cd "$scratch" && npm init -y >/dev/null && npm install --silent --no-audit --no-fund playwright-core@1.56)
 
 cargo build -q -p vitro-cli
-# A recording to fall back on while `vitro run --record` writes no MCAP.
-cargo run -q -p vitro-record --example write_sample -- "$scratch/sample.mcap" 300 >/dev/null
-node scripts/e2e_view.mjs --vitro "${CARGO_TARGET_DIR:-target}/debug/vitro" \
-  --modules "$scratch" --recording "$scratch/sample.mcap" "$@"
+node scripts/e2e_view.mjs --vitro "${CARGO_TARGET_DIR:-target}/debug/vitro" --modules "$scratch" "$@"

@@ -5,7 +5,7 @@ import { bearing, clock, esc, num, pos } from './format.js';
 import { isAir, KIND_NAMES, symbolCanvas } from './symbols.js';
 import { aboveGround } from './terrain.js';
 
-const MESSAGES_SHOWN = 12;
+const MESSAGES_SHOWN = 6;
 
 export class Inspector {
   constructor(el, state) {

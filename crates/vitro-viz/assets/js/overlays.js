@@ -156,8 +156,9 @@ function detections(ctx, map, st) {
 
 function entities(ctx, map, st) {
   const list = [...st.byId.values()];
-  // aircraft on top of ground units, the selected entity on top of all
-  list.sort((a, b) => (a.id === st.selected) - (b.id === st.selected) || a.pos[2] - b.pos[2]);
+  // passengers under their vehicle, aircraft over ground units, the selected entity on top
+  const layer = (e) => (e.id === st.selected ? 2 : e.status === 'aboard' ? 0 : 1);
+  list.sort((a, b) => layer(a) - layer(b) || a.pos[2] - b.pos[2]);
   for (const e of list) {
     const [x, y] = map.toScreen(e.pos);
     if (x < -40 || y < -40 || x > map.w + 40 || y > map.h + 40) continue;

@@ -201,6 +201,8 @@ export class View3D {
         this.dynamic.add(group);
       }
       ent.group.position.set(e.pos[0], e.pos[1], e.pos[2]);
+      // passengers ride inside their vehicle
+      ent.group.visible = e.status !== 'aboard';
       ent.model.rotation.z = e.heading;
       ent.tag.visible = layers.labels;
       if (ent.stalk) {
