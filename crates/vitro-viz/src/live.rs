@@ -334,12 +334,15 @@ fn run_loop(mut source: impl LiveSource, shared: Arc<Shared>) {
             }
         };
         let interrupted = shared.interrupts.load(Ordering::SeqCst) != before;
-        t = if interrupted {
-            t.max(ctl.sim_time().as_nanos())
-        } else {
+        let at_end = !interrupted && end.is_some_and(|e| until >= e);
+        // Up to `until` if it was reached (the run is over at its end time); otherwise up to
+        // the last event (interrupted, or over early: its end condition, no event left).
+        t = if at_end || (going && !interrupted) {
             until
+        } else {
+            t.max(ctl.sim_time().as_nanos())
         };
-        if !going || (!interrupted && end.is_some_and(|e| until >= e)) {
+        if !going || at_end {
             break (None, false);
         }
         if interrupted || last_publish.elapsed() >= FRAME_WALL {

@@ -147,3 +147,28 @@ async fn cross_origin_pages_cannot_connect() {
     assert!(tokio_tungstenite::connect_async(req).await.is_ok());
     run.stop();
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_run_over_early_ends_at_its_last_event_and_one_at_its_end_time_there() {
+    use vitro::prelude::{SimTime, Simulation, Target};
+    // Nothing after 5.5 s: over early, at its last event.
+    let mut sim = Simulation::<Toy>::new((), 1);
+    sim.schedule(SimTime::from_nanos(5_500_000_000), Target::Broadcast, ())
+        .expect("future");
+    let source = ToySource {
+        sim,
+        end_ns: 60_000_000_000,
+        pad: 0,
+    };
+    let run = LiveRun::start(source, Some(1000.0), false).expect("start");
+    let o = tokio::time::timeout(Duration::from_secs(30), run.finished())
+        .await
+        .expect("over");
+    assert_eq!((o.t_ns, o.events), (5_500_000_000, 1));
+    // Walkers go on for ever: over at the end time, whenever the last event was.
+    let run = LiveRun::start(ToySource::new(2, 7, 0), Some(1000.0), false).expect("start");
+    let o = tokio::time::timeout(Duration::from_secs(30), run.finished())
+        .await
+        .expect("over");
+    assert_eq!(o.t_ns, 7_000_000_000);
+}
