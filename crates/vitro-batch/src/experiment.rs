@@ -418,9 +418,31 @@ fn scenario_kind(scenario: &toml::Table, path: &str) -> Result<Value, String> {
     let Some((last, parents)) = parts.split_last() else {
         return Err("empty parameter path".into());
     };
-    for (i, part) in parents.iter().enumerate() {
-        match table.get(*part) {
-            Some(toml::Value::Table(t)) => table = t,
+    let mut i = 0;
+    while i < parents.len() {
+        match table.get(parents[i]) {
+            Some(toml::Value::Table(t)) => {
+                table = t;
+                i += 1;
+            }
+            Some(toml::Value::Array(items)) => {
+                // An array of tables (e.g. `[[entity]]`): the next part is its index.
+                let at = parents.get(i + 1).and_then(|p| p.parse::<usize>().ok());
+                match at.and_then(|k| items.get(k)) {
+                    Some(toml::Value::Table(t)) => {
+                        table = t;
+                        i += 2;
+                    }
+                    _ => {
+                        return Err(format!(
+                            "`{0}` is an array of {1} tables: vary `{0}.<index>.<key>`, \
+                             the index below {1}",
+                            parts[..=i].join("."),
+                            items.len(),
+                        ));
+                    }
+                }
+            }
             Some(_) => {
                 return Err(format!(
                     "unknown scenario key `{path}`: `{}` is not a table",
@@ -465,6 +487,14 @@ fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) {
         }
         match table.get_mut(part) {
             Some(toml::Value::Table(t)) => table = t,
+            Some(toml::Value::Array(items)) => {
+                // An array of tables: the next part is the index.
+                let at = parts.next().and_then(|p| p.parse::<usize>().ok());
+                match at.and_then(|k| items.get_mut(k)) {
+                    Some(toml::Value::Table(t)) => table = t,
+                    _ => return,
+                }
+            }
             _ => return,
         }
     }

@@ -223,3 +223,17 @@ fn schema_is_current_and_describes_the_file() {
         "experiments/experiment.schema.json is stale: regenerate it with `vitro batch --print-schema > experiments/experiment.schema.json`"
     );
 }
+
+#[test]
+fn parameter_paths_index_arrays_of_tables() {
+    let mut s: toml::Table = toml::from_str(
+        "[[entity]]\nname = \"a\"\ncount = 1\n[[entity]]\nname = \"b\"\ncount = 2\n",
+    )
+    .expect("toml");
+    assert_eq!(scenario_kind(&s, "entity.1.count"), Ok(Value::Int(2)));
+    assert!(scenario_kind(&s, "entity.count").is_err());
+    assert!(scenario_kind(&s, "entity.2.count").is_err());
+    set_path(&mut s, "entity.1.count", toml::Value::Integer(5));
+    assert_eq!(scenario_kind(&s, "entity.1.count"), Ok(Value::Int(5)));
+    assert_eq!(scenario_kind(&s, "entity.0.count"), Ok(Value::Int(1)));
+}

@@ -1,5 +1,6 @@
-//! `vitro batch`, `vitro merge` and `vitro plot`: experiment suites over the demo scenario
-//! (the mission's runner replaces [`demo_runner::DemoRunner`] when it exists).
+//! `vitro batch`, `vitro merge` and `vitro plot`: experiment suites over a mission scenario
+//! ([`mission_runner::MissionRunner`]) or the patrolling-cars demo
+//! ([`demo_runner::DemoRunner`]), chosen by the scenario the experiment names.
 //!
 //! ```text
 //! vitro batch EXPERIMENT.toml --out DIR [--jobs N] [--shard I/N] [--resume]
@@ -9,14 +10,17 @@
 //! ```
 
 mod demo_runner;
+mod mission_runner;
 
 use crate::Failure;
 use anyhow::anyhow;
 use clap::Args;
 use demo_runner::DemoRunner;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use mission_runner::MissionRunner;
 use std::io::IsTerminal;
 use std::path::PathBuf;
+use vitro_batch::Runner;
 use vitro_batch::design::Shard;
 use vitro_batch::journal::Status;
 use vitro_batch::plot::{PlotOptions, plot_dir};
@@ -75,6 +79,21 @@ pub(crate) struct PlotArgs {
     success: Option<String>,
 }
 
+/// The runner for the scenario `experiment` names: the mission's for mission scenarios,
+/// the demo's otherwise (an unreadable experiment goes to the demo's, whose loader reports
+/// the problem).
+fn runner_for(experiment: &std::path::Path) -> Box<dyn Runner> {
+    let scenario = std::fs::read_to_string(experiment)
+        .ok()
+        .and_then(|t| t.parse::<toml::Table>().ok())
+        .and_then(|t| t.get("scenario")?.as_str().map(str::to_owned));
+    let dir = experiment.parent().unwrap_or(std::path::Path::new(""));
+    match scenario.map(|s| dir.join(s)) {
+        Some(path) if crate::mission::is_mission(&path) => Box::new(MissionRunner { path }),
+        _ => Box::new(DemoRunner),
+    }
+}
+
 pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
     if args.print_schema {
         print!("{}", experiment_schema());
@@ -85,8 +104,9 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
             "an experiment and --out DIR are needed"
         )));
     };
-    let runner = DemoRunner;
-    let exp = Experiment::load(path, &runner).map_err(|e| match e {
+    let runner = runner_for(path);
+    let runner: &dyn Runner = runner.as_ref();
+    let exp = Experiment::load(path, runner).map_err(|e| match e {
         ExperimentError::Invalid(l) => {
             Failure::Input(anyhow::Error::new(*l).context("invalid experiment"))
         }
@@ -116,7 +136,7 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
         resume: args.resume,
     };
     let started = std::sync::OnceLock::new();
-    let report = run_batch(&exp, &runner, &opts, &|p| {
+    let report = run_batch(&exp, runner, &opts, &|p| {
         let bar = started.get_or_init(|| {
             bar.set_length(p.total - p.before);
             if p.before > 0 {

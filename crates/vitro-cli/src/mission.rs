@@ -240,8 +240,9 @@ fn print_summary(r: &Report) {
         m.messages_sent, m.messages_lost
     );
     println!(
-        "cover plan    {} repairs{}",
+        "cover plan    {} repairs, {} plan messages{}",
         m.plan_repairs,
+        m.plan_messages,
         if m.plan_cuts > 0 {
             format!(", {} cut by the depth bound", m.plan_cuts)
         } else {

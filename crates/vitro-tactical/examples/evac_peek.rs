@@ -1,7 +1,7 @@
 //! Runs the default mission at a fidelity preset for some simulated seconds and prints each
 //! agent's stated intention: a quick look inside a run.
 //!
-//! `cargo run -p vitro-tactical --example evac_peek -- [discrete|interpolated|physical] [SECONDS]`
+//! `cargo run -p vitro-tactical --example evac_peek -- [discrete|interpolated|physical] [SECONDS] [SEED] [SCENARIO]`
 
 use vitro::time::SimTime;
 use vitro_tactical::evac::Mission;
@@ -15,12 +15,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         _ => Preset::Discrete,
     };
     let secs: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(10.0);
-    let path = concat!(
+    let seed: Option<u64> = args.get(3).and_then(|s| s.parse().ok());
+    let default = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../scenarios/evacuation.toml"
     );
-    let mut m = Mission::at_fidelity(path, None, preset)?;
-    m.advance(SimTime::from_secs_f64(secs));
+    let path = args.get(4).map_or(default, String::as_str);
+    let mut m = Mission::at_fidelity(path, seed, preset)?;
+    if std::env::var_os("END").is_some() {
+        m.end = SimTime::from_secs_f64(secs);
+    }
+    if std::env::var_os("CHUNKED").is_some() {
+        let mut t = SimTime::ZERO;
+        while t < SimTime::from_secs_f64(secs) {
+            t += m.sample;
+            m.advance(t);
+        }
+    } else {
+        m.advance(SimTime::from_secs_f64(secs));
+    }
     let f = m.frame();
     for e in &f.entities {
         let i = f.intentions.iter().find(|i| i.id == e.id);
@@ -37,5 +50,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             i.map(|i| &i.plan)
         );
     }
+    for mem in &m.members {
+        let c = m.sim.env().conditions.get(mem.id);
+        println!("{:10} {:?}", mem.name, c.map(|c| c.status));
+    }
+    println!(
+        "t = {:.1} s, {} events, trace {:016x}",
+        m.sim.now().as_secs_f64(),
+        m.sim.events_fired(),
+        m.sim.trace_hash()
+    );
     Ok(())
 }

@@ -289,3 +289,34 @@ impl Actuator<Arena, Ev> for SetStatus {
         Ok(())
     }
 }
+
+/// Lets every passenger of the acting vehicle out at the extraction point: each becomes
+/// [`Status::Extracted`]. Returns nothing; a vehicle with no passengers changes nothing.
+#[derive(Copy, Clone, Debug)]
+pub struct Unload;
+
+impl Actuator<Arena, Ev> for Unload {
+    type Command = ();
+    type Error = ActError;
+    fn actuate(
+        &self,
+        w: &mut Arena,
+        me: EntityId,
+        _: (),
+        _: &mut Effects<'_, Ev>,
+    ) -> Result<(), ActError> {
+        if !active(w, me) {
+            return Err(ActError::NotActive(me));
+        }
+        let aboard: Vec<EntityId> = w
+            .conditions
+            .iter()
+            .filter(|(_, c)| c.status == Status::Aboard(me))
+            .map(|(id, _)| id)
+            .collect();
+        for id in aboard {
+            w.conditions.update(id, |c| c.status = Status::Extracted);
+        }
+        Ok(())
+    }
+}

@@ -275,6 +275,7 @@ impl Mission {
             if let Some(c) = cover {
                 m.plan_repairs += c.repairs;
                 m.plan_cuts += c.cuts;
+                m.plan_messages += c.messages;
             }
         }
         m

@@ -44,6 +44,8 @@ pub struct Metrics {
     pub plan_repairs: u64,
     /// Cover-plan repairs cut by the depth bound (`repair.max_depth`).
     pub plan_cuts: u64,
+    /// Cover-plan messages sent by the lead Vidar.
+    pub plan_messages: u64,
     /// Shots fired by the adversaries.
     pub shots: u64,
     /// Events fired.

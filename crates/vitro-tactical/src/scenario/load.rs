@@ -89,7 +89,22 @@ impl ScenarioFile {
     /// starts against it (inside the town, not in a building or forbidden zone). Reports
     /// every problem of both stages together.
     pub fn validate(path: impl AsRef<Path>) -> Result<Validated, Diagnostics> {
-        let (loaded, mut problems) = read(path.as_ref())?;
+        let (loaded, problems) = read(path.as_ref())?;
+        Self::validate_loaded(loaded, problems)
+    }
+
+    /// [`validate`](Self::validate) of `text` as if it were the file at `path`: its paths
+    /// resolve from `path`'s directory and its problems name `path` (a scenario varied by
+    /// an experiment, for instance).
+    pub fn validate_text(path: impl AsRef<Path>, text: &str) -> Result<Validated, Diagnostics> {
+        let (loaded, problems) = read_text(path.as_ref(), text.to_owned())?;
+        Self::validate_loaded(loaded, problems)
+    }
+
+    fn validate_loaded(
+        loaded: Loaded,
+        mut problems: Vec<Diagnostic>,
+    ) -> Result<Validated, Diagnostics> {
         if loaded.map.is_file() && loaded.terrain.is_file() {
             match loaded.site() {
                 Ok(site) => {
@@ -159,6 +174,11 @@ fn read(path: &Path) -> Result<(Loaded, Vec<Diagnostic>), Diagnostics> {
             Some("a readable TOML file".into()),
         ))
     })?;
+    read_text(path, source)
+}
+
+/// [`read`] of `source` as if it were the file at `path` (paths resolve from its directory).
+fn read_text(path: &Path, source: String) -> Result<(Loaded, Vec<Diagnostic>), Diagnostics> {
     let file = parse(path, &source).map_err(Diagnostics::new)?;
     let dir = path.parent().unwrap_or(Path::new(""));
     let resolve = |p: &Path| {

@@ -146,6 +146,9 @@ impl Aircraft {
                 let mut body = vec![if replace { "replace" } else { "append" }.to_string()];
                 body.extend(mine.iter().map(|c| format!("c{c}")));
                 tell(cx, id, Radio::Plan(body));
+                if let Some(c) = self.cover.as_mut() {
+                    c.messages += 1;
+                }
             }
         }
     }

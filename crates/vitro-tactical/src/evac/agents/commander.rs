@@ -6,7 +6,7 @@ use super::{SENSE, tell};
 use crate::actuate::MoveError;
 use crate::arena::{Ev, TrackTarget};
 use crate::condition::Status;
-use crate::evac::act::{Dismount, Drive};
+use crate::evac::act::{Dismount, Drive, Unload};
 use crate::evac::brief::Brief;
 use crate::evac::sense::Myself;
 use crate::map::Mode;
@@ -53,6 +53,8 @@ pub struct Commander {
     waiting: BTreeSet<EntityId>,
     waiting_since: SimTime,
     ordered_at: SimTime,
+    hunt_ordered_at: SimTime,
+    hunt_done: bool,
     /// The pursuers, once the hunt is on.
     pub hunters: Vec<EntityId>,
     hunt_pending: bool,
@@ -74,6 +76,8 @@ impl Commander {
             waiting: BTreeSet::new(),
             waiting_since: SimTime::ZERO,
             ordered_at: SimTime::ZERO,
+            hunt_ordered_at: SimTime::ZERO,
+            hunt_done: false,
             hunters: Vec::new(),
             hunt_pending: false,
             log: Vec::new(),
@@ -137,11 +141,7 @@ impl Commander {
             }
             Phase::Back => {
                 self.enter(Phase::Done, cx);
-                let mut aboard = self.escorts();
-                aboard.push(self.brief.vip);
-                for id in aboard {
-                    tell(cx, id, Radio::Signal("extracted".into(), String::new()));
-                }
+                let _ = cx.act(&Unload, ());
             }
             _ => {}
         }
@@ -172,25 +172,32 @@ impl Commander {
             return;
         }
         self.hunters = self.brief.team.iter().copied().take(k).collect();
-        for id in &self.hunters {
-            self.waiting.remove(id);
-        }
+        let waited_for_hunters = self.hunters.iter().any(|id| self.waiting.remove(id));
         match self.phase {
             Phase::Out | Phase::Back => self.hunt_pending = true,
             _ => self.release_hunters(cx),
+        }
+        if waited_for_hunters {
+            self.all_answered(cx);
         }
     }
 
     /// Lets the pursuers out (if aboard) and sends them after the target.
     fn release_hunters(&mut self, cx: &mut Context<'_, Tactical>) {
         self.hunt_pending = false;
-        let Some(target) = self.brief.hvt else { return };
         let out: Vec<_> = self
             .hunters
             .iter()
             .map(|&id| (id, self.brief.troop_kind(id)))
             .collect();
         let _ = cx.act(&self.dismount, out);
+        self.order_hunt(cx);
+    }
+
+    /// Sends the pursuit order to every pursuer.
+    fn order_hunt(&mut self, cx: &mut Context<'_, Tactical>) {
+        let Some(target) = self.brief.hvt else { return };
+        self.hunt_ordered_at = cx.now();
         for &id in &self.hunters {
             tell(
                 cx,
@@ -204,15 +211,31 @@ impl Commander {
     }
 
     fn on_signal(&mut self, from: EntityId, what: &str, cx: &mut Context<'_, Tactical>) {
+        if what == "captured" {
+            self.hunt_done = true;
+        }
         if !self.waiting.remove(&from) {
             return;
         }
-        match (self.phase, what) {
-            (Phase::Pickup, "arrived") if self.waiting.is_empty() => {
+        if matches!(
+            (self.phase, what),
+            (Phase::Pickup, "arrived") | (Phase::Boarding, "aboard")
+        ) {
+            self.all_answered(cx);
+        }
+    }
+
+    /// Moves on once nobody is waited for any more: the VIP gets ready, or the truck leaves.
+    fn all_answered(&mut self, cx: &mut Context<'_, Tactical>) {
+        if !self.waiting.is_empty() {
+            return;
+        }
+        match self.phase {
+            Phase::Pickup => {
                 let ready = SimDuration::from_secs_f64(self.brief.mission.pickup_s);
                 cx.set_timer(ready, READY);
             }
-            (Phase::Boarding, "aboard") if self.waiting.is_empty() => self.leave(cx),
+            Phase::Boarding => self.leave(cx),
             _ => {}
         }
     }
@@ -249,6 +272,15 @@ impl Commander {
         let since_orders = cx.now().saturating_since(self.ordered_at).as_secs_f64();
         if !self.waiting.is_empty() && since_orders >= REPEAT_S {
             self.repeat_orders(cx);
+        }
+        let since_hunt = cx
+            .now()
+            .saturating_since(self.hunt_ordered_at)
+            .as_secs_f64();
+        let hunting = !self.hunters.is_empty() && !self.hunt_pending && !self.hunt_done;
+        if hunting && since_hunt >= REPEAT_S {
+            // The pursuit order may have been lost: it is idempotent, send it again.
+            self.order_hunt(cx);
         }
         if !self.waiting.is_empty() && waited > PATIENCE_S {
             match self.phase {

@@ -6,7 +6,7 @@ use super::hunt::{Hunt, HuntStep};
 use super::{Reporter, SENSE, tell};
 use crate::arena::{Ev, TrackTarget};
 use crate::condition::Status;
-use crate::evac::act::{Board, Capture, SetStatus, Walk};
+use crate::evac::act::{Board, Capture, Walk};
 use crate::evac::brief::{BLUE, Brief};
 use crate::evac::sense::{Myself, Vision};
 use crate::map::Mode;
@@ -261,9 +261,6 @@ impl Controller for Trooper {
             Input::Timer(DECIDED) => self.on_decided(cx),
             Input::Message(env) => match &env.body {
                 Radio::Order(o) => self.on_order(env.from, o, cx),
-                Radio::Signal(s, _) if s == "extracted" => {
-                    let _ = cx.act(&SetStatus, Status::Extracted);
-                }
                 Radio::Signal(s, _) if s == "captured" => {
                     if let Some(h) = self.hunt.as_mut() {
                         h.over = true;
