@@ -4,9 +4,13 @@
 //! Targets may move on periodic schedules, so the chain runs on the product state
 //! `(vertex, phase)`, `phase = time mod period`. A *stationary* chain has one row of entries per
 //! support vertex, shared by every phase; a *timed* (time-dependent) chain has one row per
-//! (vertex, phase). For a target `t` with deadline `D` and vertex `pos_t(φ)` at phase `φ`, the
-//! capture probability from state `(h, φ)` is the chance that the walk started there stands on
-//! the target's vertex at one of the steps `1..=D`:
+//! (vertex, phase). A timed chain may also be *phase-locked*: only some product states are
+//! *active* (the patroller is at some vertices only at some phases, e.g. near a convoy), rows
+//! exist for active states only and their moves lead to active states of the next phase.
+//!
+//! For a target `t` with deadline `D` and vertex `pos_t(φ)` at phase `φ`, the capture
+//! probability from state `(h, φ)` is the chance that the walk started there stands on the
+//! target's vertex at one of the steps `1..=D`:
 //! `q_0 = 0`, `q_s(x, φ) = Σ_y α_φ(x, y) · ([y = pos_t(φ+1)] + [y ≠ pos_t(φ+1)] · q_{s-1}(y, φ+1))`,
 //! `P(t, h, φ) = q_D(h, φ)`. Unrolled, `P` is a sum over walks of products of entries: a
 //! polynomial with non-negative coefficients, hence non-decreasing in every entry — the fact
@@ -18,6 +22,9 @@ use crate::graph::{Graph, NodeId};
 
 /// A target as the chain sees it: its vertex at each phase, its deadline and its value.
 pub(crate) type Track = (Vec<NodeId>, usize, f64);
+
+/// No row (an inactive state).
+const NONE: usize = usize::MAX;
 
 /// One attack option's data, in support-local terms.
 #[derive(Clone, Debug)]
@@ -37,28 +44,55 @@ impl ChainTarget {
     }
 }
 
+/// Sparse gradients of one target's capture probabilities: for every start state, the entries
+/// with a non-zero partial derivative (ascending) and the derivatives.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Gradients {
+    /// State `s` owns `offsets[s]..offsets[s + 1]` of `entries` and `values`.
+    offsets: Vec<usize>,
+    entries: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl Gradients {
+    /// The non-zero partial derivatives of `P(t, state)`: `(entries, values)`, entries
+    /// ascending (empty for an inactive state or an unreachable target).
+    pub(crate) fn at(&self, state: usize) -> (&[usize], &[f64]) {
+        match (self.offsets.get(state), self.offsets.get(state + 1)) {
+            (Some(&a), Some(&b)) => (&self.entries[a..b], &self.values[a..b]),
+            _ => (&[], &[]),
+        }
+    }
+}
+
 /// A Markov chain restricted to a support set of vertices, over `period` phases.
 #[derive(Clone, Debug)]
 pub(crate) struct Chain {
     /// The support, ascending; local index `i` is vertex `nodes[i]`.
     pub(crate) nodes: Vec<NodeId>,
-    /// Base entries of local vertex `i` are `row_start[i]..row_start[i + 1]`.
-    pub(crate) row_start: Vec<usize>,
-    /// Local successor of each base entry (rows list the closed neighbourhood within the
-    /// support, ascending, the vertex itself included).
+    /// Entries of row `r` are `row_start[r]..row_start[r + 1]`.
+    row_start: Vec<usize>,
+    /// The row used at each product state `φ · len() + x` ([`NONE`] for an inactive state).
+    state_row: Vec<usize>,
+    /// The product state of each row of a timed chain (row `x` of a stationary chain serves
+    /// vertex `x` at every phase).
+    row_state: Vec<usize>,
+    /// Local successor of each entry (rows list their successors ascending, the vertex itself
+    /// included when allowed).
     pub(crate) to: Vec<usize>,
-    /// Local source of each base entry.
-    pub(crate) from: Vec<usize>,
     /// Phases of the targets' schedules (1 when every target is static).
     pub(crate) period: usize,
     /// Whether each phase has its own rows (a time-dependent policy).
     pub(crate) timed: bool,
+    /// Whether each product state is one the patroller may occupy (and be attacked from).
+    active: Vec<bool>,
     pub(crate) targets: Vec<ChainTarget>,
 }
 
 impl Chain {
     /// The chain on `support` (sorted, distinct vertices of `graph`), attacked at `targets`
-    /// given as `(vertex per phase, deadline, value)` (each vertex list `period` long).
+    /// given as `(vertex per phase, deadline, value)` (each vertex list `period` long); every
+    /// (support vertex, phase) is active.
     pub(crate) fn new(
         graph: &Graph,
         support: &[NodeId],
@@ -66,21 +100,96 @@ impl Chain {
         period: usize,
         timed: bool,
     ) -> Chain {
+        let period = period.max(1);
+        let active = vec![true; support.len() * period];
+        Chain::build(graph, support, targets, period, timed, active)
+    }
+
+    /// A phase-locked timed chain: only the product states `φ · support.len() + x` marked in
+    /// `active` are occupied. Moves from an active state go to active states of the next phase
+    /// only; an active state without such a move is deactivated (repeatedly, so every active
+    /// state can move on forever).
+    pub(crate) fn phase_locked(
+        graph: &Graph,
+        support: &[NodeId],
+        targets: &[Track],
+        period: usize,
+        mut active: Vec<bool>,
+    ) -> Chain {
+        let period = period.max(1);
+        let n = support.len();
+        active.resize(n * period, false);
         let local = |v: NodeId| support.binary_search(&v).ok();
+        loop {
+            let mut changed = false;
+            for state in 0..n * period {
+                let (phase, x) = (state / n, state % n);
+                let next = (phase + 1) % period * n;
+                let moves_on = active[state]
+                    && std::iter::once(x)
+                        .chain(graph.neighbors(support[x]).iter().filter_map(|&w| local(w)))
+                        .any(|y| active[next + y]);
+                if active[state] && !moves_on {
+                    active[state] = false;
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        Chain::build(graph, support, targets, period, true, active)
+    }
+
+    fn build(
+        graph: &Graph,
+        support: &[NodeId],
+        targets: &[Track],
+        period: usize,
+        timed: bool,
+        active: Vec<bool>,
+    ) -> Chain {
+        let n = support.len();
+        let local = |v: NodeId| support.binary_search(&v).ok();
+        // The closed neighbourhood of each support vertex within the support, ascending.
+        let around: Vec<Vec<usize>> = (0..n)
+            .map(|i| {
+                let mut row: Vec<usize> = graph
+                    .neighbors(support[i])
+                    .iter()
+                    .filter_map(|&w| local(w))
+                    .collect();
+                row.push(i);
+                row.sort_unstable();
+                row
+            })
+            .collect();
         let mut row_start = vec![0];
         let mut to = Vec::new();
-        let mut from = Vec::new();
-        for (i, &v) in support.iter().enumerate() {
-            let mut row: Vec<usize> = graph
-                .neighbors(v)
-                .iter()
-                .filter_map(|&w| local(w))
-                .collect();
-            row.push(i);
-            row.sort_unstable();
-            from.extend(std::iter::repeat_n(i, row.len()));
-            to.extend(row);
-            row_start.push(to.len());
+        let mut state_row = vec![NONE; n * period];
+        let mut row_state = Vec::new();
+        if timed {
+            for state in 0..n * period {
+                if !active[state] {
+                    continue;
+                }
+                let (phase, x) = (state / n, state % n);
+                let next = (phase + 1) % period * n;
+                state_row[state] = row_state.len();
+                row_state.push(state);
+                to.extend(around[x].iter().filter(|&&y| active[next + y]));
+                row_start.push(to.len());
+            }
+        } else {
+            for row in &around {
+                to.extend(row);
+                row_start.push(to.len());
+            }
+            for (state, r) in state_row.iter_mut().enumerate() {
+                if active[state] {
+                    *r = state % n;
+                }
+            }
         }
         let targets = targets
             .iter()
@@ -93,10 +202,12 @@ impl Chain {
         Chain {
             nodes: support.to_vec(),
             row_start,
+            state_row,
+            row_state,
             to,
-            from,
-            period: period.max(1),
+            period,
             timed,
+            active,
             targets,
         }
     }
@@ -106,9 +217,19 @@ impl Chain {
         self.nodes.len()
     }
 
-    /// Number of product states `(vertex, phase)`; state `φ · len() + x`.
+    /// Number of product states `(vertex, phase)`, active or not; state `φ · len() + x`.
     pub(crate) fn states(&self) -> usize {
         self.nodes.len() * self.period
+    }
+
+    /// Whether product state `state` is occupied (an attack may start there).
+    pub(crate) fn is_active(&self, state: usize) -> bool {
+        self.active.get(state).copied().unwrap_or(false)
+    }
+
+    /// Number of active product states.
+    pub(crate) fn active_states(&self) -> usize {
+        self.active.iter().filter(|&&a| a).count()
     }
 
     /// Phases with their own rows: `period` for a timed chain, else 1.
@@ -118,33 +239,34 @@ impl Chain {
 
     /// Number of transition entries (the free variables).
     pub(crate) fn entries(&self) -> usize {
-        self.to.len() * self.row_phases()
+        self.to.len()
     }
 
-    /// Number of stochastic rows: row `φ · len() + x` for a timed chain, row `x` otherwise.
+    /// Number of stochastic rows: one per active state of a timed chain, one per vertex of a
+    /// stationary one.
     pub(crate) fn rows(&self) -> usize {
-        self.nodes.len() * self.row_phases()
+        self.row_start.len() - 1
     }
 
     /// The entry range of row `i` (see [`Chain::rows`]).
     pub(crate) fn row(&self, i: usize) -> std::ops::Range<usize> {
-        let (phase, x) = (i / self.len(), i % self.len());
-        let offset = phase * self.to.len();
-        self.row_start[x] + offset..self.row_start[x + 1] + offset
+        self.row_start[i]..self.row_start[i + 1]
     }
 
-    /// The entry used by base entry `e` at phase `phase`.
-    fn entry(&self, e: usize, phase: usize) -> usize {
-        if self.timed {
-            e + phase * self.to.len()
-        } else {
-            e
-        }
+    /// The (first) product state row `i` serves: `φ · len() + x` for a timed chain, vertex `x`
+    /// (at phase 0) for a stationary one.
+    pub(crate) fn row_state(&self, i: usize) -> usize {
+        if self.timed { self.row_state[i] } else { i }
+    }
+
+    /// The row used at product state `state`, `None` if it is inactive.
+    pub(crate) fn state_row(&self, state: usize) -> Option<usize> {
+        self.state_row.get(state).copied().filter(|&r| r != NONE)
     }
 
     /// Local successor of entry `e`.
     pub(crate) fn entry_to(&self, e: usize) -> usize {
-        self.to[e % self.to.len()]
+        self.to[e]
     }
 
     /// `q_s` for `s = 0..=deadline` (flattened, `states()` values each) for target `t`.
@@ -161,15 +283,18 @@ impl Chain {
                 let next = (phase + 1) % self.period;
                 let hit = target.local[next];
                 for x in 0..n {
+                    let Some(r) = self.state_row(phase * n + x) else {
+                        continue;
+                    };
                     let mut sum = 0.0;
-                    for e in self.row_start[x]..self.row_start[x + 1] {
+                    for e in self.row(r) {
                         let y = self.to[e];
                         let onward = if Some(y) == hit {
                             1.0
                         } else {
                             previous[next * n + y]
                         };
-                        sum += alpha[self.entry(e, phase)] * onward;
+                        sum += alpha[e] * onward;
                     }
                     current[phase * n + x] = sum;
                 }
@@ -177,7 +302,8 @@ impl Chain {
         }
     }
 
-    /// Capture probabilities `out[t * states() + state]` for every target and start state.
+    /// Capture probabilities `out[t * states() + state]` for every target and start state
+    /// (0 at inactive states).
     pub(crate) fn capture(&self, alpha: &[f64], out: &mut Vec<f64>) {
         let states = self.states();
         out.clear();
@@ -218,12 +344,14 @@ impl Chain {
                     let next = (phase + 1) % self.period;
                     let hit = target.local[next];
                     for x in 0..n {
+                        let Some(r) = self.state_row(phase * n + x) else {
+                            continue;
+                        };
                         order.clear();
                         let mut sum = 0.0;
                         let mut mass = 1.0;
-                        for b in self.row_start[x]..self.row_start[x + 1] {
-                            let e = self.entry(b, phase);
-                            let y = self.to[b];
+                        for e in self.row(r) {
+                            let y = self.to[e];
                             let onward = if Some(y) == hit {
                                 1.0
                             } else {
@@ -251,7 +379,7 @@ impl Chain {
         }
     }
 
-    /// The attacker's best expected gain, `max over (t, state)` of `value_t · (1 − P)`
+    /// The attacker's best expected gain, `max over (t, active state)` of `value_t · (1 − P)`
     /// (probabilities above 1, possible at non-stochastic entries, count as 1).
     pub(crate) fn loss(&self, alpha: &[f64], scratch: &mut Vec<f64>) -> f64 {
         self.capture(alpha, scratch);
@@ -263,22 +391,26 @@ impl Chain {
         let states = self.states();
         let mut worst: f64 = 0.0;
         for (t, target) in self.targets.iter().enumerate() {
-            for &p in &capture[t * states..(t + 1) * states] {
-                worst = worst.max(target.value * (1.0 - p.min(1.0)));
+            for (state, &p) in capture[t * states..(t + 1) * states].iter().enumerate() {
+                if self.active[state] {
+                    worst = worst.max(target.value * (1.0 - p.min(1.0)));
+                }
             }
         }
         worst
     }
 
-    /// Gradients of `P(t, state)` with respect to every entry, for every start state:
-    /// `out[state * entries() + e]`. Zero when the target never enters the support.
-    pub(crate) fn gradients(&self, alpha: &[f64], t: usize, out: &mut Vec<f64>) {
+    /// Gradients of `P(t, state)` with respect to every entry, for every active start state
+    /// (none when the target never enters the support).
+    pub(crate) fn gradients(&self, alpha: &[f64], t: usize, out: &mut Gradients) {
         let (n, states) = (self.len(), self.states());
-        let m = self.entries();
-        out.clear();
-        out.resize(states * m, 0.0);
+        out.offsets.clear();
+        out.entries.clear();
+        out.values.clear();
+        out.offsets.push(0);
         let target = &self.targets[t];
         if !target.reachable() {
+            out.offsets.resize(states + 1, 0);
             return;
         }
         let deadline = target.deadline;
@@ -286,33 +418,53 @@ impl Chain {
         self.hitting_tables(alpha, t, &mut table);
         let mut reach = vec![0.0; n];
         let mut next = vec![0.0; n];
+        let mut grad = vec![0.0; self.entries()];
+        let mut touched = vec![false; self.entries()];
+        let mut list: Vec<usize> = Vec::new();
         for start in 0..states {
-            let (start_phase, h) = (start / n, start % n);
-            // reach = probability of standing at x after s − 1 steps without having hit t;
-            // the phase advances in lockstep, so one phase at a time.
-            reach.fill(0.0);
-            reach[h] = 1.0;
-            let grad = &mut out[start * m..(start + 1) * m];
-            for s in 1..=deadline {
-                let phase = (start_phase + s - 1) % self.period;
-                let after = (phase + 1) % self.period;
-                let hit = target.local[after];
-                let left = &table[(deadline - s) * states + after * n..][..n];
-                next.fill(0.0);
-                for b in 0..self.to.len() {
-                    let (x, y) = (self.from[b], self.to[b]);
-                    if reach[x] == 0.0 {
-                        continue;
+            if self.active[start] {
+                let (start_phase, h) = (start / n, start % n);
+                // reach = probability of standing at x after s − 1 steps without having hit
+                // t; the phase advances in lockstep, so one phase at a time.
+                reach.fill(0.0);
+                reach[h] = 1.0;
+                for s in 1..=deadline {
+                    let phase = (start_phase + s - 1) % self.period;
+                    let after = (phase + 1) % self.period;
+                    let hit = target.local[after];
+                    let left = &table[(deadline - s) * states + after * n..][..n];
+                    next.fill(0.0);
+                    for (x, &here) in reach.iter().enumerate() {
+                        let Some(r) = self.state_row(phase * n + x).filter(|_| here != 0.0) else {
+                            continue;
+                        };
+                        for e in self.row(r) {
+                            let y = self.to[e];
+                            let onward = if Some(y) == hit { 1.0 } else { left[y] };
+                            if !touched[e] {
+                                touched[e] = true;
+                                list.push(e);
+                            }
+                            grad[e] += here * onward;
+                            if Some(y) != hit {
+                                next[y] += here * alpha[e];
+                            }
+                        }
                     }
-                    let e = self.entry(b, phase);
-                    let onward = if Some(y) == hit { 1.0 } else { left[y] };
-                    grad[e] += reach[x] * onward;
-                    if Some(y) != hit {
-                        next[y] += reach[x] * alpha[e];
-                    }
+                    std::mem::swap(&mut reach, &mut next);
                 }
-                std::mem::swap(&mut reach, &mut next);
+                list.sort_unstable();
+                for &e in &list {
+                    if grad[e] != 0.0 {
+                        out.entries.push(e);
+                        out.values.push(grad[e]);
+                    }
+                    grad[e] = 0.0;
+                    touched[e] = false;
+                }
+                list.clear();
             }
+            out.offsets.push(out.entries.len());
         }
     }
 }
@@ -388,7 +540,7 @@ mod tests {
         let mut base = Vec::new();
         chain.capture(&alpha, &mut base);
         for t in 0..2 {
-            let mut grad = Vec::new();
+            let mut grad = Gradients::default();
             chain.gradients(&alpha, t, &mut grad);
             for e in 0..chain.entries() {
                 let mut bumped = alpha.clone();
@@ -397,7 +549,11 @@ mod tests {
                 chain.capture(&bumped, &mut after);
                 for h in 0..4 {
                     let numeric = (after[t * 4 + h] - base[t * 4 + h]) / 1e-6;
-                    let exact = grad[h * chain.entries() + e];
+                    let (entries, values) = grad.at(h);
+                    let exact = entries
+                        .iter()
+                        .position(|&x| x == e)
+                        .map_or(0.0, |i| values[i]);
                     assert!(
                         (numeric - exact).abs() < 1e-4,
                         "t{t} h{h} e{e}: {numeric} vs {exact}"

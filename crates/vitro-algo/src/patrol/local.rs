@@ -15,7 +15,7 @@
 use good_lp::{Expression, ProblemVariables, Solution, SolverModel, microlp, variable};
 
 use super::PatrolError;
-use super::chain::Chain;
+use super::chain::{Chain, Gradients};
 
 /// LP work done, for reports.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -63,9 +63,9 @@ pub(crate) fn random(chain: &Chain, rng: &mut impl rand::Rng) -> Vec<f64> {
 }
 
 /// Escape probabilities of a team: `escape[i][t * period + φ]` is the largest chance, over
-/// patroller `i`'s start vertices, that `i` misses an attack on target `t` started at phase
-/// `φ`; `capture[i]` holds the chains' capture probabilities.
-fn escapes(chains: &[&Chain], capture: &[Vec<f64>]) -> Vec<Vec<f64>> {
+/// patroller `i`'s active start states at phase `φ`, that `i` misses an attack on target `t`
+/// started then; `capture[i]` holds the chains' capture probabilities.
+pub(crate) fn escapes(chains: &[&Chain], capture: &[Vec<f64>]) -> Vec<Vec<f64>> {
     chains
         .iter()
         .zip(capture)
@@ -73,9 +73,12 @@ fn escapes(chains: &[&Chain], capture: &[Vec<f64>]) -> Vec<Vec<f64>> {
             let (n, period) = (chain.len(), chain.period);
             (0..chain.targets.len() * period)
                 .map(|k| {
+                    let phase_start = (k % period) * n;
                     cap[k * n..(k + 1) * n]
                         .iter()
-                        .map(|&p| 1.0 - p.min(1.0))
+                        .enumerate()
+                        .filter(|&(x, _)| chain.is_active(phase_start + x))
+                        .map(|(_, &p)| 1.0 - p.min(1.0))
                         .fold(0.0, f64::max)
                 })
                 .collect()
@@ -129,6 +132,12 @@ pub(crate) fn improve(
     (alphas.pop().unwrap_or_default(), loss)
 }
 
+/// The trust region below which a local search stops (steps that small change no value
+/// reported to six digits).
+const MIN_RADIUS: f64 = 1e-6;
+/// The smallest predicted decrease of the loss worth another step.
+const MIN_DECREASE: f64 = 1e-10;
+
 /// Improves a team's policies (one chain and entry vector per patroller) by successive linear
 /// programming on [`team_loss`]; returns the final entries and their exact loss (never worse
 /// than the start's).
@@ -140,12 +149,12 @@ pub(crate) fn improve_team(
 ) -> (Vec<Vec<f64>>, f64) {
     let mut loss = team_loss(chains, &alphas);
     let mut radius = 0.25;
-    let mut gradients: Vec<Vec<Vec<f64>>> = chains
+    let mut gradients: Vec<Vec<Gradients>> = chains
         .iter()
-        .map(|c| vec![Vec::new(); c.targets.len()])
+        .map(|c| vec![Gradients::default(); c.targets.len()])
         .collect();
     for _ in 0..max_iterations {
-        if loss <= 0.0 || radius < 1e-9 {
+        if loss <= 0.0 || radius < MIN_RADIUS {
             break;
         }
         let mut capture = Vec::with_capacity(chains.len());
@@ -168,7 +177,7 @@ pub(crate) fn improve_team(
             break;
         };
         let predicted_decrease = loss - predicted;
-        if predicted_decrease <= 1e-12 {
+        if predicted_decrease <= MIN_DECREASE {
             break;
         }
         let candidate_loss = team_loss(chains, &candidate);
@@ -193,14 +202,16 @@ pub(crate) fn improve_team(
 struct Linearisation<'a> {
     alphas: &'a [Vec<f64>],
     capture: &'a [Vec<f64>],
-    gradients: &'a [Vec<Vec<f64>>],
+    gradients: &'a [Vec<Gradients>],
 }
 
-/// Above this many attack rows the linearised program keeps only the starts whose escape
-/// probability is within [`ACTIVE_MARGIN`] of the worst (an active set); steps are still
-/// accepted only if the exact loss drops.
+/// Above this many attack rows the linearised program keeps only an active set: per
+/// patroller, target and phase, the starts whose escape probability is within
+/// [`ACTIVE_MARGIN`] of the worst, at most [`ACTIVE_STARTS`] of them (the worst ones); steps
+/// are still accepted only if the exact loss drops.
 const ALL_ROWS_LIMIT: usize = 3000;
 const ACTIVE_MARGIN: f64 = 0.2;
+const ACTIVE_STARTS: usize = 6;
 
 /// Solves the linearised program around the current point within the trust region; returns
 /// the new entries (rows renormalised) and the predicted worst-case loss.
@@ -233,22 +244,45 @@ fn linearised_step(
                 .collect()
         })
         .collect();
-    let y: Vec<Vec<_>> = escape
+    // Starts whose capture probability no move can change (the target is out of reach) bound
+    // their escape level from below by a constant: a variable bound, not a row.
+    let floors: Vec<Vec<f64>> = chains
         .iter()
-        .map(|e| e.iter().map(|_| vars.add(variable().min(0.0))).collect())
+        .enumerate()
+        .map(|(i, chain)| {
+            let (n, states) = (chain.len(), chain.states());
+            let mut floor = vec![0.0f64; escape[i].len()];
+            for t in 0..chain.targets.len() {
+                for start in (0..states).filter(|&s| chain.is_active(s)) {
+                    if point.gradients[i][t].at(start).0.is_empty() {
+                        let k = t * chain.period + start / n;
+                        let p = point.capture[i][t * states + start];
+                        floor[k] = floor[k].max(1.0 - p);
+                    }
+                }
+            }
+            floor
+        })
+        .collect();
+    let y: Vec<Vec<_>> = floors
+        .iter()
+        .map(|f| f.iter().map(|&lo| vars.add(variable().min(lo))).collect())
         .collect();
     let z = vars.add(variable().min(0.0));
     let variables: usize = x.iter().map(Vec::len).sum::<usize>() + escape.len() * escape[0].len();
     let mut model = vars.minimise(z).using(microlp);
     let mut constraints = 0;
-    let total_rows: usize = chains.iter().map(|c| c.targets.len() * c.states()).sum();
+    let total_rows: usize = chains
+        .iter()
+        .map(|c| c.targets.len() * c.active_states())
+        .sum();
     let margin = if total_rows <= ALL_ROWS_LIMIT {
         f64::INFINITY
     } else {
         ACTIVE_MARGIN
     };
     for (i, chain) in chains.iter().enumerate() {
-        let (n, states, m) = (chain.len(), chain.states(), chain.entries());
+        let (n, states) = (chain.len(), chain.states());
         let alpha = &point.alphas[i];
         for r in 0..chain.rows() {
             let mut row = Expression::with_capacity(chain.row(r).len());
@@ -259,21 +293,34 @@ fn linearised_step(
             constraints += 1;
         }
         for t in 0..chain.targets.len() {
-            for start in 0..states {
+            // The starts kept, per phase: within the margin, the worst few in active-set mode.
+            let mut kept = vec![false; states];
+            for phase in 0..chain.period {
+                let k = t * chain.period + phase;
+                let mut near: Vec<(f64, usize)> = (phase * n..(phase + 1) * n)
+                    .filter(|&s| chain.is_active(s))
+                    .filter(|&s| !point.gradients[i][t].at(s).0.is_empty())
+                    .map(|s| (1.0 - point.capture[i][t * states + s].min(1.0), s))
+                    .filter(|&(e, _)| e >= escape[i][k] - margin)
+                    .collect();
+                if margin.is_finite() {
+                    near.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+                    near.truncate(ACTIVE_STARTS);
+                }
+                for (_, s) in near {
+                    kept[s] = true;
+                }
+            }
+            for start in (0..states).filter(|&s| kept[s]) {
                 // y ≥ 1 − P − g·(x − α)  ⇔  y + g·x ≥ 1 − P + g·α.
                 let k = t * chain.period + start / n;
                 let p = point.capture[i][t * states + start];
-                if 1.0 - p.min(1.0) < escape[i][k] - margin {
-                    continue;
-                }
-                let grad = &point.gradients[i][t][start * m..(start + 1) * m];
+                let (entries, values) = point.gradients[i][t].at(start);
                 let mut lhs = Expression::from(y[i][k]);
                 let mut rhs = 1.0 - p;
-                for e in 0..m {
-                    if grad[e] != 0.0 {
-                        lhs.add_mul(grad[e], x[i][e]);
-                        rhs += grad[e] * alpha[e];
-                    }
+                for (&e, &g) in entries.iter().zip(values) {
+                    lhs.add_mul(g, x[i][e]);
+                    rhs += g * alpha[e];
                 }
                 model = model.with(lhs.geq(rhs));
                 constraints += 1;

@@ -50,21 +50,48 @@
 //! started at `(h, φ)` on target `t` is caught if the patroller stands on `pos_t(φ + s)` at a
 //! step `s ∈ 1..=D`. A *stationary* policy shares one row per vertex across phases; a
 //! *time-dependent* one ([`SolveOptions::time_dependent`]) has a row per (vertex, phase).
-//! The attack starts are every support vertex at every phase (the patroller may be found
-//! anywhere on its support at any phase). Both capture probabilities stay polynomials with
-//! non-negative coefficients, so stages 1 and 2 apply unchanged and `exact` keeps its meaning
-//! over the class: Markov policies of that kind on a connected support, attackable at every
-//! (support vertex, phase). Phase-locked supports (a patroller that only ever is at some
-//! vertices at some phases, such as one riding with a convoy) are outside the class. Every
+//! The attack starts are the patroller's *states*, the (vertex, phase) pairs it can be found
+//! in: here every support vertex at every phase (a *full-phase* support). Both capture probabilities stay polynomials with non-negative coefficients, so stages 1
+//! and 2 apply unchanged and `exact` keeps its meaning over the class searched. Every
 //! stationary policy is a time-dependent one, so the time-dependent optimum is never worse.
 //!
-//! # Several patrollers
+//! # Phase-locked policies: attacks start only where the patroller can be
+//!
+//! The classes above give the patroller the same support at every phase, so the attacker may
+//! strike from every (support vertex, phase). That is right for static targets, but with
+//! convoys it forbids the obvious defence: a patroller riding with a convoy is at the convoy's
+//! vertex *at that phase* and nowhere else, yet the full-phase class lets the attacker start
+//! while it stands on the far end of the route. On a 10 × 10 grid with three convoys and two
+//! patrollers (example `patrol_scale`) that modelling choice made every policy worthless
+//! (capture probability 0): some (vertex, phase) of every support is out of reach of some
+//! convoy. It is a modelling error, not a property of the game: a Markov patroller is only
+//! ever in the states of its policy's recurrent class, and only those are observable starts.
+//!
+//! [`SolveOptions::phase_locked`] fixes it: time-dependent policies on *phase-locked* supports,
+//! a set of product states `(vertex, phase)` closed under the moves, attacked only from those
+//! states (see [`Policy`]). The supports searched are *tubes* around the targets each patroller
+//! guards: at every phase, the states that keep all its targets within reach of an attack
+//! (else any of them), best placed first, with a little slack; states that cannot go on or
+//! cannot reach a target in time are pruned (module `tube`). On the grid the team then catches
+//! every attack (value 0). Found by local search (below), phase-locked policies are never
+//! certified: [`Solution::lower_bound`] is 0 unless the full-phase search certifies a better
+//! one. Every returned phase-locked policy is restricted to one closed class of its states
+//! (where the patroller really ends up), so its value counts only starts the attacker can see.
+//!
+//! # Several patrollers: local optimisation with restarts (the scalable method)
 //!
 //! Independent policies, one per patroller; the attacker sees all of them, so the escape
 //! probability of a joint start is the product of the patrollers' ones (module `team`).
-//! They are found by the same successive LP (product linearised too) with restarts over
-//! target-to-patroller assignments and random starting policies: a scalable anytime local
-//! method, never certified (`exact` is false unless every attack is surely caught).
+//! They are found by the same successive LP (product linearised too) with restarts: over
+//! target-to-patroller assignments (while there are at most 64 of them), over supports (the
+//! connected cover of each patroller's targets, or with [`SolveOptions::phase_locked`] the
+//! tightest tube and one with more slack, the wider one started from the tighter one's
+//! optimum), and over starting policies (pursuit of the guarded targets on tubes, uniform,
+//! then [`SolveOptions::restarts`] random ones). Candidates whose supports surely miss some
+//! attack for every patroller are skipped once something better is known. On large
+//! instances each LP keeps an active set of the worst attack starts (steps are accepted only
+//! when the exact value improves). It is anytime and returns a local optimum, never
+//! certified (`exact` is false unless every attack is surely caught).
 //!
 //! Policies with memory (history-dependent patrols) and coordinated teams (joint moves) can
 //! beat these; they are outside the optimised classes.
@@ -101,6 +128,7 @@ mod policy;
 mod relax;
 mod supports;
 mod team;
+mod tube;
 
 use std::path::PathBuf;
 
@@ -174,6 +202,11 @@ pub struct SolveOptions {
     pub restarts: usize,
     /// Seed of the restarts' random starting policies. Default 0.
     pub seed: u64,
+    /// Also search phase-locked time-dependent policies (implies
+    /// [`SolveOptions::time_dependent`]): patrollers that are only at some vertices at some
+    /// phases, e.g. keeping near the convoys they guard, and are attacked only there (see the
+    /// [module docs](self)). Found by local search on tubes, never certified. Default false.
+    pub phase_locked: bool,
 }
 
 impl Default for SolveOptions {
@@ -187,6 +220,7 @@ impl Default for SolveOptions {
             time_dependent: false,
             restarts: 2,
             seed: 0,
+            phase_locked: false,
         }
     }
 }
@@ -249,9 +283,26 @@ pub fn solve(instance: &Instance) -> Result<Solution, PatrolError> {
 /// period above [`MAX_PERIOD`], [`PatrolError::InvalidInstance`] for an inconsistent instance.
 pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solution, PatrolError> {
     let (period, targets) = instance.timeline()?;
-    let timed = options.time_dependent && period > 1;
+    let timed = (options.time_dependent || options.phase_locked) && period > 1;
     if instance.patrollers.len() > 1 {
         return team::solve(instance, options, period, &targets, timed);
+    }
+    if options.phase_locked && period > 1 {
+        // The certified full-phase optimum, then the phase-locked local search: the better.
+        let full = solve_with(
+            instance,
+            &SolveOptions {
+                time_dependent: true,
+                phase_locked: false,
+                ..options.clone()
+            },
+        )?;
+        let mut locked = team::solve(instance, options, period, &targets, true)?;
+        if locked.value < full.value - options.tolerance {
+            locked.stats.nodes += full.stats.nodes;
+            return Ok(locked);
+        }
+        return Ok(full);
     }
     let graph = &instance.graph;
     let (supports, complete) = match supports::connected(graph, options.max_supports) {

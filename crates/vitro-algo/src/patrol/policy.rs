@@ -17,8 +17,12 @@ const ROW_SUM_TOLERANCE: f64 = 1e-9;
 /// *stationary* policy has one distribution per vertex; a *time-dependent* one has one per
 /// vertex and phase of the targets' schedule period (`phases` of them, the period).
 ///
-/// The attacker may strike whenever the patroller stands on a support vertex, at any phase, so
-/// every (support vertex, phase) counts as an observable start of an attack.
+/// The *states* of a policy are the (vertex, phase) pairs it has a distribution for: every
+/// (support vertex, phase) for a stationary policy, and for a time-dependent one either the
+/// same (a *full-phase* policy) or only some vertices at each phase (a *phase-locked* policy,
+/// e.g. one that keeps near a convoy: it is never elsewhere at that phase). The attacker may
+/// strike whenever the patroller is in one of its states, so every state counts as an
+/// observable start of an attack.
 ///
 /// ```
 /// use vitro_algo::graph;
@@ -40,7 +44,8 @@ pub struct Policy {
     /// Phases with their own rows (1 for a stationary policy).
     phases: usize,
     /// Per phase, then per support vertex (row `phase · support.len() + i`): `(next vertex,
-    /// probability)`, ascending by vertex, positive probabilities only.
+    /// probability)`, ascending by vertex, positive probabilities only; empty where the
+    /// patroller never is at that phase (a phase-locked policy).
     moves: Vec<Vec<(NodeId, f64)>>,
 }
 
@@ -81,36 +86,8 @@ impl Policy {
             return bad(format!("vertex {} has two rows", w[0]));
         }
         let mut moves = Vec::with_capacity(rows.len());
-        for (v, mut row) in rows {
-            if v >= graph.node_count() {
-                return bad(format!("vertex {v} is not in the graph"));
-            }
-            row.sort_by_key(|(w, _)| *w);
-            let mut sum = 0.0;
-            for (i, &(w, p)) in row.iter().enumerate() {
-                if !(p.is_finite() && p >= 0.0) {
-                    return bad(format!("move {v} -> {w} has probability {p}"));
-                }
-                if w != v && !graph.has_edge(v, w) {
-                    return bad(format!("move {v} -> {w} does not follow an edge"));
-                }
-                if support.binary_search(&w).is_err() && p > 0.0 {
-                    return bad(format!("move {v} -> {w} leaves the support"));
-                }
-                if i > 0 && row[i - 1].0 == w {
-                    return bad(format!("move {v} -> {w} is listed twice"));
-                }
-                sum += p;
-            }
-            if (sum - 1.0).abs() > ROW_SUM_TOLERANCE {
-                return bad(format!("the moves from {v} sum to {sum}, not 1"));
-            }
-            moves.push(
-                row.into_iter()
-                    .filter(|&(_, p)| p > 0.0)
-                    .map(|(w, p)| (w, p / sum))
-                    .collect(),
-            );
+        for (v, row) in rows {
+            moves.push(checked_row(graph, v, row, &support)?);
         }
         Ok(Policy {
             support,
@@ -119,29 +96,51 @@ impl Policy {
         })
     }
 
-    /// Builds a time-dependent policy from one set of rows per phase (as for [`Policy::new`]);
-    /// every phase must list the same support.
+    /// Builds a time-dependent policy from one set of rows per phase (each row as for
+    /// [`Policy::new`]). Phases may list different vertices (a phase-locked policy): a move at
+    /// phase `φ` must then lead to a vertex listed at phase `φ + 1` (cyclically).
     ///
     /// # Errors
     /// [`PatrolError::InvalidPolicy`] naming the offending phase or row.
     pub fn time_dependent(graph: &Graph, phases: Vec<Rows>) -> Result<Policy, PatrolError> {
         let count = phases.len();
-        let mut support: Option<Vec<NodeId>> = None;
-        let mut moves = Vec::new();
-        for (phase, rows) in phases.into_iter().enumerate() {
-            let policy = Policy::new(graph, rows)
-                .map_err(|e| PatrolError::InvalidPolicy(format!("phase {phase}: {e}")))?;
-            if support.as_ref().is_some_and(|s| *s != policy.support) {
-                return Err(PatrolError::InvalidPolicy(format!(
-                    "phase {phase} has another support than phase 0"
-                )));
-            }
-            support = Some(policy.support);
-            moves.extend(policy.moves);
-        }
-        let Some(support) = support else {
+        if count == 0 {
             return Err(PatrolError::InvalidPolicy("no phases".into()));
-        };
+        }
+        let listed: Vec<Vec<NodeId>> = phases
+            .iter()
+            .map(|rows| {
+                let mut v: Vec<NodeId> = rows.iter().map(|(v, _)| *v).collect();
+                v.sort_unstable();
+                v
+            })
+            .collect();
+        let mut support: Vec<NodeId> = listed.iter().flatten().copied().collect();
+        support.sort_unstable();
+        support.dedup();
+        if support.is_empty() {
+            return Err(PatrolError::InvalidPolicy("the support is empty".into()));
+        }
+        let n = support.len();
+        let mut moves = vec![Vec::new(); count * n];
+        for (phase, rows) in phases.into_iter().enumerate() {
+            let at = |e: PatrolError| PatrolError::InvalidPolicy(format!("phase {phase}: {e}"));
+            if listed[phase].is_empty() {
+                return Err(at(PatrolError::InvalidPolicy("no vertices".into())));
+            }
+            if let Some(w) = listed[phase].windows(2).find(|w| w[0] == w[1]) {
+                return Err(at(PatrolError::InvalidPolicy(format!(
+                    "vertex {} has two rows",
+                    w[0]
+                ))));
+            }
+            let next = &listed[(phase + 1) % count];
+            for (v, row) in rows {
+                let row = checked_row(graph, v, row, next).map_err(at)?;
+                let i = support.binary_search(&v).unwrap_or(0);
+                moves[phase * n + i] = row;
+            }
+        }
         Ok(Policy {
             support,
             phases: count,
@@ -160,18 +159,20 @@ impl Policy {
 
     /// Builds the policy from a chain's entry vector (rows already stochastic up to rounding).
     pub(crate) fn from_chain(chain: &Chain, alpha: &[f64]) -> Policy {
-        let moves = (0..chain.rows())
-            .map(|i| {
-                let row = chain.row(i);
-                let sum: f64 = row.clone().map(|e| alpha[e].max(0.0)).sum();
-                row.filter(|&e| alpha[e] > 0.0)
-                    .map(|e| (chain.nodes[chain.entry_to(e)], alpha[e] / sum))
-                    .collect()
-            })
-            .collect();
+        let n = chain.len();
+        let phases = chain.row_phases();
+        let mut moves = vec![Vec::new(); phases * n];
+        for i in 0..chain.rows() {
+            let row = chain.row(i);
+            let sum: f64 = row.clone().map(|e| alpha[e].max(0.0)).sum();
+            moves[chain.row_state(i)] = row
+                .filter(|&e| alpha[e] > 0.0)
+                .map(|e| (chain.nodes[chain.entry_to(e)], alpha[e] / sum))
+                .collect();
+        }
         Policy {
             support: chain.nodes.clone(),
-            phases: chain.row_phases(),
+            phases,
             moves,
         }
     }
@@ -182,7 +183,8 @@ impl Policy {
         let mut alpha = vec![0.0; chain.entries()];
         let n = self.support.len();
         for i in 0..chain.rows() {
-            let source = ((i / n) % self.phases) * n + i % n;
+            let state = chain.row_state(i);
+            let source = ((state / n) % self.phases) * n + state % n;
             for &(w, p) in &self.moves[source] {
                 if let Some(e) = chain.row(i).find(|&e| chain.nodes[chain.entry_to(e)] == w) {
                     alpha[e] = p;
@@ -209,12 +211,33 @@ impl Policy {
         self.moves_at(v, 0)
     }
 
-    /// The moves from `v` at `phase` (taken modulo [`Policy::phases`]), or `None` outside the
-    /// support.
+    /// The moves from `v` at `phase` (taken modulo [`Policy::phases`]), or `None` if `v` is not
+    /// one of the policy's states at that phase.
     pub fn moves_at(&self, v: NodeId, phase: usize) -> Option<&[(NodeId, f64)]> {
         let i = self.support.binary_search(&v).ok()?;
         let row = (phase % self.phases) * self.support.len() + i;
-        self.moves.get(row).map(Vec::as_slice)
+        self.moves
+            .get(row)
+            .filter(|m| !m.is_empty())
+            .map(Vec::as_slice)
+    }
+
+    /// The vertices where the patroller may be at `phase` (taken modulo [`Policy::phases`]),
+    /// ascending: the whole support unless the policy is phase-locked.
+    pub fn states_at(&self, phase: usize) -> Vec<NodeId> {
+        let n = self.support.len();
+        let start = (phase % self.phases) * n;
+        self.support
+            .iter()
+            .zip(&self.moves[start..start + n])
+            .filter(|(_, m)| !m.is_empty())
+            .map(|(&v, _)| v)
+            .collect()
+    }
+
+    /// Whether some vertex has no moves at some phase (the patroller is never there then).
+    pub fn is_phase_locked(&self) -> bool {
+        self.moves.iter().any(Vec::is_empty)
     }
 
     /// The probability of moving from `from` to `to` at phase 0 (0 outside the support).
@@ -253,6 +276,23 @@ impl Policy {
                 self.phases
             )));
         }
+        if self.is_phase_locked() {
+            // Phase-locked policies have a row per (vertex, phase) of the period.
+            if self.phases != period {
+                return Err(PatrolError::InvalidPolicy(format!(
+                    "the phase-locked policy has {} phases, the instance's schedules a period of {period}",
+                    self.phases
+                )));
+            }
+            let active = self.moves.iter().map(|m| !m.is_empty()).collect();
+            return Ok(Chain::phase_locked(
+                &instance.graph,
+                &self.support,
+                &targets,
+                period,
+                active,
+            ));
+        }
         Ok(Chain::new(
             &instance.graph,
             &self.support,
@@ -262,9 +302,10 @@ impl Policy {
         ))
     }
 
-    /// The exact outcome of every attack option: each target, started while the patroller
-    /// stands on each support vertex, at each phase of the schedule period (by target, then
-    /// phase, then vertex).
+    /// The exact outcome of every attack option: each target, started while the patroller is
+    /// in each of its states (each support vertex at each phase of the schedule period, or
+    /// only its phase's vertices for a phase-locked policy), by target, then phase, then
+    /// vertex.
     ///
     /// # Errors
     /// [`PatrolError::InvalidPolicy`] if the policy does not fit the instance's graph or
@@ -280,6 +321,9 @@ impl Policy {
         let mut attacks = Vec::with_capacity(capture.len());
         for (t, target) in chain.targets.iter().enumerate() {
             for (s, &p) in capture[t * states..(t + 1) * states].iter().enumerate() {
+                if !chain.is_active(s) {
+                    continue;
+                }
                 let p = p.min(1.0);
                 attacks.push(Attack {
                     target: t,
@@ -364,9 +408,11 @@ impl Policy {
     pub(crate) fn restricted(&self, class: &[NodeId]) -> Policy {
         let moves = (0..self.phases)
             .flat_map(|phase| {
-                class
-                    .iter()
-                    .filter_map(move |&v| self.moves_at(v, phase).map(<[_]>::to_vec))
+                class.iter().map(move |&v| {
+                    self.moves_at(v, phase)
+                        .map(<[_]>::to_vec)
+                        .unwrap_or_default()
+                })
             })
             .collect();
         Policy {
@@ -375,4 +421,158 @@ impl Policy {
             moves,
         }
     }
+
+    /// The closed communicating classes of the policy's states `(phase, vertex)`, phase by
+    /// phase in turn (the sets of states the patroller can end up cycling through forever;
+    /// with one phase, the vertex sets of [`Policy::recurrent_classes`]). Each class is
+    /// ascending by phase, then vertex; classes are ordered by their first state.
+    pub fn recurrent_states(&self) -> Vec<Vec<(usize, NodeId)>> {
+        let n = self.support.len();
+        let count = self.moves.len();
+        let index = |w: NodeId| self.support.binary_search(&w).ok();
+        let successors = |s: usize| -> Vec<usize> {
+            let next = (s / n + 1) % self.phases * n;
+            self.moves[s]
+                .iter()
+                .filter_map(|&(w, _)| index(w).map(|j| next + j))
+                .collect()
+        };
+        let component = strong_components(count, &successors);
+        // A component is closed when no move leaves it; empty rows are no states.
+        let components = component.iter().copied().max().map_or(0, |c| c + 1);
+        let mut closed = vec![true; components];
+        for s in (0..count).filter(|&s| !self.moves[s].is_empty()) {
+            if successors(s).iter().any(|&t| component[t] != component[s]) {
+                closed[component[s]] = false;
+            }
+        }
+        let mut classes: Vec<Vec<(usize, NodeId)>> = Vec::new();
+        let mut slot = vec![usize::MAX; components];
+        for s in (0..count).filter(|&s| !self.moves[s].is_empty()) {
+            let c = component[s];
+            if !closed[c] {
+                continue;
+            }
+            if slot[c] == usize::MAX {
+                slot[c] = classes.len();
+                classes.push(Vec::new());
+            }
+            classes[slot[c]].push((s / n, self.support[s % n]));
+        }
+        classes
+    }
+
+    /// This policy restricted to a closed set of its states `(phase, vertex)` (as given by
+    /// [`Policy::recurrent_states`]): a phase-locked policy on those states only.
+    pub(crate) fn restricted_to_states(&self, states: &[(usize, NodeId)]) -> Policy {
+        let mut support: Vec<NodeId> = states.iter().map(|&(_, v)| v).collect();
+        support.sort_unstable();
+        support.dedup();
+        let n = support.len();
+        let mut moves = vec![Vec::new(); self.phases * n];
+        for &(phase, v) in states {
+            if let (Ok(i), Some(row)) = (support.binary_search(&v), self.moves_at(v, phase)) {
+                moves[phase * n + i] = row.to_vec();
+            }
+        }
+        Policy {
+            support,
+            phases: self.phases,
+            moves,
+        }
+    }
+}
+
+/// Strongly connected components of the graph on `0..count` given by `successors`
+/// (Kosaraju, iterative): the component index of every vertex.
+fn strong_components(count: usize, successors: &dyn Fn(usize) -> Vec<usize>) -> Vec<usize> {
+    // First pass: finishing order of a depth-first search.
+    let mut seen = vec![false; count];
+    let mut order = Vec::with_capacity(count);
+    for root in 0..count {
+        if seen[root] {
+            continue;
+        }
+        seen[root] = true;
+        let mut stack = vec![(root, successors(root), 0usize)];
+        while let Some((v, next, i)) = stack.last_mut() {
+            if let Some(&w) = next.get(*i) {
+                *i += 1;
+                if !seen[w] {
+                    seen[w] = true;
+                    let onward = successors(w);
+                    stack.push((w, onward, 0));
+                }
+            } else {
+                order.push(*v);
+                stack.pop();
+            }
+        }
+    }
+    // Second pass: the reverse graph, in reverse finishing order.
+    let mut reverse = vec![Vec::new(); count];
+    for v in 0..count {
+        for w in successors(v) {
+            reverse[w].push(v);
+        }
+    }
+    let mut component = vec![usize::MAX; count];
+    let mut next_component = 0;
+    for &root in order.iter().rev() {
+        if component[root] != usize::MAX {
+            continue;
+        }
+        component[root] = next_component;
+        let mut stack = vec![root];
+        while let Some(v) = stack.pop() {
+            for &w in &reverse[v] {
+                if component[w] == usize::MAX {
+                    component[w] = next_component;
+                    stack.push(w);
+                }
+            }
+        }
+        next_component += 1;
+    }
+    component
+}
+
+/// Validates one row of moves from `v` (every move to `v` itself or a neighbour, in `allowed`
+/// when positive, listed once, probabilities summing to 1) and returns it renormalised,
+/// ascending, positive entries only.
+fn checked_row(
+    graph: &Graph,
+    v: NodeId,
+    mut row: Vec<(NodeId, f64)>,
+    allowed: &[NodeId],
+) -> Result<Vec<(NodeId, f64)>, PatrolError> {
+    let bad = |message: String| Err(PatrolError::InvalidPolicy(message));
+    if v >= graph.node_count() {
+        return bad(format!("vertex {v} is not in the graph"));
+    }
+    row.sort_by_key(|(w, _)| *w);
+    let mut sum = 0.0;
+    for (i, &(w, p)) in row.iter().enumerate() {
+        if !(p.is_finite() && p >= 0.0) {
+            return bad(format!("move {v} -> {w} has probability {p}"));
+        }
+        if w != v && !graph.has_edge(v, w) {
+            return bad(format!("move {v} -> {w} does not follow an edge"));
+        }
+        if allowed.binary_search(&w).is_err() && p > 0.0 {
+            return bad(format!("move {v} -> {w} leaves the support"));
+        }
+        if i > 0 && row[i - 1].0 == w {
+            return bad(format!("move {v} -> {w} is listed twice"));
+        }
+        sum += p;
+    }
+    if (sum - 1.0).abs() > ROW_SUM_TOLERANCE {
+        return bad(format!("the moves from {v} sum to {sum}, not 1"));
+    }
+    Ok(row
+        .into_iter()
+        .filter(|&(_, p)| p > 0.0)
+        .map(|(w, p)| (w, p / sum))
+        .collect())
 }

@@ -16,7 +16,7 @@
 use good_lp::{Expression, ProblemVariables, Solution, SolverModel, microlp, variable};
 
 use super::PatrolError;
-use super::chain::Chain;
+use super::chain::{Chain, Gradients};
 use super::local::LpStats;
 
 /// The relaxation's result on one box.
@@ -44,13 +44,12 @@ pub(crate) fn relax(
     let m = chain.entries();
     let mut capture = Vec::new();
     chain.capture(x, &mut capture);
-    let mut upper_grad = Vec::new();
-    let mut lower_grad = Vec::new();
     let mut gradients = Vec::with_capacity(chain.targets.len());
     for t in 0..chain.targets.len() {
-        chain.gradients(hi, t, &mut upper_grad);
-        chain.gradients(lo, t, &mut lower_grad);
-        gradients.push((upper_grad.clone(), lower_grad.clone()));
+        let (mut upper, mut lower) = (Gradients::default(), Gradients::default());
+        chain.gradients(hi, t, &mut upper);
+        chain.gradients(lo, t, &mut lower);
+        gradients.push((upper, lower));
     }
     let mut vars = ProblemVariables::new();
     let up: Vec<_> = (0..m)
@@ -79,10 +78,9 @@ pub(crate) fn relax(
             continue;
         }
         let (g_up, g_down) = &gradients[t];
-        for h in 0..n {
+        for h in (0..n).filter(|&h| chain.is_active(h)) {
             let mut lhs = Expression::from(z);
-            for e in 0..m {
-                let (a, b) = (g_up[h * m + e], g_down[h * m + e]);
+            for (e, a, b) in merged(g_up, g_down, h) {
                 if a != 0.0 {
                     lhs.add_mul(target.value * a, up[e]);
                 }
@@ -119,17 +117,17 @@ pub(crate) fn relax(
             continue;
         }
         let (g_up, g_down) = &gradients[t];
-        for h in 0..n {
+        for h in (0..n).filter(|&h| chain.is_active(h)) {
             let relaxed: f64 = capture[t * n + h]
-                + (0..m)
-                    .map(|e| g_up[h * m + e] * u[e] - g_down[h * m + e] * d[e])
+                + merged(g_up, g_down, h)
+                    .map(|(e, a, b)| a * u[e] - b * d[e])
                     .sum::<f64>();
             if target.value * (1.0 - relaxed) < z_value - 1e-9 {
                 continue;
             }
-            for (e, s) in score.iter_mut().enumerate() {
-                let error = target.value * (g_up[h * m + e] - g_down[h * m + e]) * (hi[e] - lo[e]);
-                *s = s.max(error);
+            for (e, a, b) in merged(g_up, g_down, h) {
+                let error = target.value * (a - b) * (hi[e] - lo[e]);
+                score[e] = score[e].max(error);
             }
         }
     }
@@ -137,5 +135,40 @@ pub(crate) fn relax(
         bound: (z_value - MARGIN).max(floor),
         alpha,
         score,
+    })
+}
+
+/// The entries where either gradient of start `h` is non-zero, ascending, with both values
+/// (0 where one has none).
+fn merged<'a>(
+    upper: &'a Gradients,
+    lower: &'a Gradients,
+    h: usize,
+) -> impl Iterator<Item = (usize, f64, f64)> + 'a {
+    let (ue, uv) = upper.at(h);
+    let (le, lv) = lower.at(h);
+    let (mut i, mut j) = (0, 0);
+    std::iter::from_fn(move || {
+        let a = ue.get(i).copied();
+        let b = le.get(j).copied();
+        match (a, b) {
+            (Some(x), Some(y)) if x == y => {
+                (i, j) = (i + 1, j + 1);
+                Some((x, uv[i - 1], lv[j - 1]))
+            }
+            (Some(x), Some(y)) if x < y => {
+                i += 1;
+                Some((x, uv[i - 1], 0.0))
+            }
+            (Some(x), None) => {
+                i += 1;
+                Some((x, uv[i - 1], 0.0))
+            }
+            (_, Some(y)) => {
+                j += 1;
+                Some((y, 0.0, lv[j - 1]))
+            }
+            (None, None) => None,
+        }
     })
 }

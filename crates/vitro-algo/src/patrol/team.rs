@@ -19,6 +19,7 @@ use serde::Serialize;
 
 use super::chain::{Chain, Track};
 use super::local;
+use super::tube::{self, Reach};
 use super::{Instance, PatrolError, Policy, Solution, SolveOptions, SolveStats};
 use crate::graph::{Graph, NodeId};
 
@@ -60,19 +61,19 @@ pub fn threats(instance: &Instance, policies: &[Policy]) -> Result<Vec<Threat>, 
         })
         .collect();
     for policy in policies {
-        let attacks = policy.attacks(instance)?;
         // Attacks come by target, then phase, then vertex: the largest escape per (t, phase).
-        for (k, threat) in worst.iter_mut().enumerate() {
-            let n = policy.support().len();
-            let group = &attacks[k * n..(k + 1) * n];
-            let mut best = &group[0];
-            for a in group {
-                if a.capture_probability < best.capture_probability {
-                    best = a;
-                }
+        let mut best: Vec<Option<(f64, NodeId)>> = vec![None; worst.len()];
+        for a in policy.attacks(instance)? {
+            let slot = &mut best[a.target * period + a.phase % period];
+            if slot.is_none_or(|(p, _)| a.capture_probability < p) {
+                *slot = Some((a.capture_probability, a.from));
             }
-            threat.from.push(best.from);
-            threat.expected_loss *= 1.0 - best.capture_probability;
+        }
+        for (threat, best) in worst.iter_mut().zip(best) {
+            // A patroller with no state at some phase cannot be (its moves are closed).
+            let (p, from) = best.unwrap_or((0.0, NodeId::MAX));
+            threat.from.push(from);
+            threat.expected_loss *= 1.0 - p;
         }
     }
     for threat in &mut worst {
@@ -148,6 +149,187 @@ pub(crate) fn cover(graph: &Graph, nodes: &[NodeId], radius: usize) -> Vec<NodeI
     (0..n).filter(|&v| inside[v]).collect()
 }
 
+/// Assignments of targets to `k` interchangeable patrollers: `owner[j]` guards target `j`;
+/// only those whose first use of each patroller comes in order, and none when there are more
+/// than [`MAX_ASSIGNMENTS`] of them.
+fn assignments(k: usize, targets: usize) -> Vec<Vec<usize>> {
+    let count = k
+        .checked_pow(u32::try_from(targets).unwrap_or(u32::MAX))
+        .filter(|&c| c <= MAX_ASSIGNMENTS);
+    let Some(count) = count else {
+        return Vec::new();
+    };
+    // Assignment `a` gives target `j` to patroller `(a / k^j) % k`.
+    (0..count)
+        .map(|a| {
+            (0..targets)
+                .map(|j| (a / k.pow(j as u32)) % k)
+                .collect::<Vec<usize>>()
+        })
+        .filter(|owner| {
+            let mut next = 0;
+            owner.iter().all(|&o| {
+                if o > next {
+                    false
+                } else {
+                    next += usize::from(o == next);
+                    true
+                }
+            })
+        })
+        .collect()
+}
+
+/// The targets each patroller guards under `owner` (idle patrollers guard every target).
+fn guarded(k: usize, owner: &[usize]) -> Vec<Vec<usize>> {
+    (0..k)
+        .map(|i| {
+            let mine: Vec<usize> = (0..owner.len()).filter(|&j| owner[j] == i).collect();
+            if mine.is_empty() {
+                (0..owner.len()).collect()
+            } else {
+                mine
+            }
+        })
+        .collect()
+}
+
+/// Extra slack tried beyond the tightest feasible tube (see [`super::tube`]).
+const TUBE_EXTRA_SLACK: [i64; 2] = [0, 1];
+
+/// Mass a tube's pursuit starting policy spreads evenly over every move.
+const PURSUIT_SPREAD: f64 = 0.25;
+/// Mass a policy lifted to a wider tube spreads evenly over every move.
+const LIFT_SPREAD: f64 = 0.05;
+
+/// A candidate team: one chain per patroller, and a starting policy for each when there is a
+/// better one than uniform.
+struct Candidate {
+    chains: Vec<Chain>,
+    starts: Option<Vec<Vec<f64>>>,
+    /// Candidates of one family hold the same targets per patroller, tubes ever wider.
+    family: usize,
+}
+
+/// Candidate teams: for every assignment of targets (everybody guarding everything first),
+/// either each patroller on the connected cover of its targets' positions (all phases), or,
+/// if `phase_locked`, on tubes of a few slacks around them (keeping all its targets within
+/// reach where possible, else any of them).
+fn candidates(
+    instance: &Instance,
+    period: usize,
+    targets: &[Track],
+    timed: bool,
+    phase_locked: bool,
+) -> Vec<Candidate> {
+    let k = instance.patrollers.len();
+    let graph = &instance.graph;
+    let mut owners = vec![vec![k; targets.len()]];
+    owners.extend(assignments(k, targets.len()));
+    let mut teams = Vec::new();
+    if !phase_locked {
+        for (family, owner) in owners.iter().enumerate() {
+            let chains = guarded(k, owner)
+                .iter()
+                .map(|mine| {
+                    let mut nodes: Vec<NodeId> = mine
+                        .iter()
+                        .flat_map(|&t| targets[t].0.iter().copied())
+                        .collect();
+                    nodes.sort_unstable();
+                    nodes.dedup();
+                    Chain::new(graph, &cover(graph, &nodes, 0), targets, period, timed)
+                })
+                .collect();
+            teams.push(Candidate {
+                chains,
+                starts: None,
+                family,
+            });
+        }
+        return teams;
+    }
+    let distance = tube::target_distances(graph, targets);
+    let n = graph.node_count();
+    // Slack enough to take every state within reach.
+    let loosest = targets.iter().map(|t| t.1 as i64).max().unwrap_or(1) + n as i64;
+    for (family, owner) in owners.iter().enumerate() {
+        // Each patroller's tightest tube keeping all its targets in reach, else any of them.
+        let plans: Vec<(Reach, Vec<i64>, i64)> = guarded(k, owner)
+            .iter()
+            .map(|mine| {
+                let plan = |reach: Reach| {
+                    let late = tube::placement(graph, targets, &distance, mine, period, reach);
+                    let feasible = (0..=loosest).find(|&slack| {
+                        tube::tube(graph, targets, &late, mine, period, slack, reach).is_some()
+                    });
+                    feasible.map(|slack| (reach, late, slack))
+                };
+                plan(Reach::All).or_else(|| plan(Reach::Any)).unwrap_or((
+                    Reach::Any,
+                    Vec::new(),
+                    -1,
+                ))
+            })
+            .collect();
+        let guards = guarded(k, owner);
+        for extra in TUBE_EXTRA_SLACK {
+            let team: Option<Vec<(Chain, Vec<f64>)>> = guards
+                .iter()
+                .zip(&plans)
+                .map(|(mine, (reach, late, slack))| {
+                    if *slack < 0 {
+                        return None;
+                    }
+                    let chain =
+                        tube::tube(graph, targets, late, mine, period, slack + extra, *reach)?;
+                    let start =
+                        tube::pursuit_start(&chain, targets, &distance, mine, PURSUIT_SPREAD);
+                    Some((chain, start))
+                })
+                .collect();
+            if let Some(team) = team {
+                let (chains, starts) = team.into_iter().unzip();
+                teams.push(Candidate {
+                    chains,
+                    starts: Some(starts),
+                    family,
+                });
+            }
+        }
+    }
+    teams
+}
+
+/// A lower bound on the loss of every team of policies on these chains: an attack on `t` at
+/// phase `φ` is surely missed when every patroller has a state at `φ` from which no walk
+/// inside its chain reaches the target in time.
+fn certain_loss(chains: &[Chain]) -> f64 {
+    let Some(first) = chains.first() else {
+        return 0.0;
+    };
+    let refs: Vec<&Chain> = chains.iter().collect();
+    let capture: Vec<Vec<f64>> = chains
+        .iter()
+        .map(|c| {
+            let mut out = Vec::new();
+            c.capture(&local::uniform(c), &mut out);
+            out
+        })
+        .collect();
+    let escape = local::escapes(&refs, &capture);
+    let mut worst: f64 = 0.0;
+    for (t, target) in first.targets.iter().enumerate() {
+        for phase in 0..first.period {
+            let k = t * first.period + phase;
+            if escape.iter().all(|e| e[k] >= 1.0) {
+                worst = worst.max(target.value);
+            }
+        }
+    }
+    worst
+}
+
 /// The team search of the module docs.
 pub(crate) fn solve(
     instance: &Instance,
@@ -156,98 +338,78 @@ pub(crate) fn solve(
     targets: &[Track],
     timed: bool,
 ) -> Result<Solution, PatrolError> {
-    let k = instance.patrollers.len();
-    let graph = &instance.graph;
-    let count = k
-        .checked_pow(u32::try_from(targets.len()).unwrap_or(u32::MAX))
-        .filter(|&c| c <= MAX_ASSIGNMENTS);
-    // Assignment `a` gives target `j` to patroller `(a / k^j) % k`; patrollers are
-    // interchangeable, so only assignments whose first use of each patroller comes in order.
-    let assignments: Vec<Vec<usize>> = match count {
-        Some(count) => (0..count)
-            .map(|a| {
-                (0..targets.len())
-                    .map(|j| (a / k.pow(j as u32)) % k)
-                    .collect::<Vec<usize>>()
-            })
-            .filter(|owner| {
-                let mut next = 0;
-                owner.iter().all(|&o| {
-                    if o > next {
-                        false
-                    } else {
-                        next += usize::from(o == next);
-                        true
-                    }
-                })
-            })
-            .collect(),
-        None => Vec::new(),
-    };
-    // Everybody guarding every target is always a candidate.
-    let mut candidates: Vec<Vec<Vec<NodeId>>> = vec![vec![all_positions(targets); k]];
-    for owner in &assignments {
-        let supports: Vec<Vec<NodeId>> = (0..k)
-            .map(|i| {
-                let mine: Vec<NodeId> = targets
-                    .iter()
-                    .zip(owner)
-                    .filter(|&(_, &o)| o == i)
-                    .flat_map(|(t, _)| t.0.iter().copied())
-                    .collect();
-                mine
-            })
-            .collect();
-        // Idle patrollers (no targets) help everywhere.
-        let supports = supports
-            .into_iter()
-            .map(|s| {
-                if s.is_empty() {
-                    all_positions(targets)
-                } else {
-                    s
-                }
-            })
-            .collect();
-        candidates.push(supports);
-    }
+    let phase_locked = options.phase_locked && period > 1;
+    let candidates = candidates(instance, period, targets, timed, phase_locked);
     let mut stats = SolveStats {
         supports: candidates.len(),
         ..SolveStats::default()
     };
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     let mut best: Option<(Vec<Chain>, Vec<Vec<f64>>, f64)> = None;
-    for positions in candidates {
-        let chains: Vec<Chain> = positions
-            .iter()
-            .map(|p| {
-                let mut nodes = p.clone();
-                nodes.sort_unstable();
-                nodes.dedup();
-                Chain::new(graph, &cover(graph, &nodes, 0), targets, period, timed)
-            })
-            .collect();
+    // The best policies of the last candidate searched, and its family.
+    let mut previous: Option<(usize, Vec<Chain>, Vec<Vec<f64>>)> = None;
+    for Candidate {
+        chains,
+        starts,
+        family,
+    } in candidates
+    {
         if chains.iter().any(|c| c.len() == 0) {
             continue;
         }
+        // Skip teams that cannot beat the best found (or tie a sure loss).
+        let floor = certain_loss(&chains);
+        if best.as_ref().is_some_and(|b| floor >= b.2) {
+            continue;
+        }
+        stats.supports_searched += 1;
         let refs: Vec<&Chain> = chains.iter().collect();
+        // A wider tube of the same family starts from the tighter one's policies.
+        let lifted: Option<Vec<Vec<f64>>> = match (&previous, &starts) {
+            (Some((f, narrow, alphas)), Some(fallback)) if *f == family => Some(
+                (0..chains.len())
+                    .map(|i| {
+                        tube::lift(
+                            &narrow[i],
+                            &alphas[i],
+                            &chains[i],
+                            &fallback[i],
+                            LIFT_SPREAD,
+                        )
+                    })
+                    .collect(),
+            ),
+            _ => None,
+        };
+        let first = lifted.iter().chain(&starts).cloned();
+        let mut family_best: Option<(Vec<Vec<f64>>, f64)> = None;
+        let mut planned = first.collect::<Vec<_>>().into_iter();
         for restart in 0..=options.restarts {
-            let start: Vec<Vec<f64>> = chains
-                .iter()
-                .map(|c| {
-                    if restart == 0 {
-                        local::uniform(c)
-                    } else {
-                        local::random(c, &mut rng)
-                    }
-                })
-                .collect();
+            let start: Vec<Vec<f64>> = match planned.next() {
+                Some(start) => start,
+                None => chains
+                    .iter()
+                    .map(|c| {
+                        if restart == 0 {
+                            local::uniform(c)
+                        } else {
+                            local::random(c, &mut rng)
+                        }
+                    })
+                    .collect(),
+            };
             let (alphas, loss) =
                 local::improve_team(&refs, start, options.local_iterations, &mut stats.lp);
             stats.local_searches += 1;
+            if family_best.as_ref().is_none_or(|b| loss < b.1) {
+                family_best = Some((alphas.clone(), loss));
+            }
             if best.as_ref().is_none_or(|b| loss < b.2) {
                 best = Some((chains.clone(), alphas, loss));
             }
+        }
+        if let Some((alphas, _)) = family_best {
+            previous = Some((family, chains, alphas));
         }
     }
     let Some((chains, alphas, _)) = best else {
@@ -260,6 +422,11 @@ pub(crate) fn solve(
         .zip(&alphas)
         .map(|(c, a)| Policy::from_chain(c, a))
         .collect();
+    let policies = if phase_locked {
+        recurrent_team(instance, policies)?
+    } else {
+        policies
+    };
     let threats = threats(instance, &policies)?;
     let value = threats.iter().map(|t| t.expected_loss).fold(0.0, f64::max);
     let capture_probability = threats
@@ -277,12 +444,68 @@ pub(crate) fn solve(
     })
 }
 
-/// Every vertex any target visits, ascending.
-fn all_positions(targets: &[Track]) -> Vec<NodeId> {
-    let mut nodes: Vec<NodeId> = targets.iter().flat_map(|t| t.0.iter().copied()).collect();
-    nodes.sort_unstable();
-    nodes.dedup();
-    nodes
+/// Most combinations of recurrent classes compared when restricting a team.
+const MAX_CLASS_COMBINATIONS: usize = 64;
+
+/// Restricts every time-dependent policy to one closed class of its states (where the
+/// patroller really ends up; the others are never visited again, so the attacker never sees
+/// them): the best combination for the team, or each patroller's best class on its own when
+/// there are too many combinations.
+pub(crate) fn recurrent_team(
+    instance: &Instance,
+    policies: Vec<Policy>,
+) -> Result<Vec<Policy>, PatrolError> {
+    let options: Vec<Vec<Policy>> = policies
+        .iter()
+        .map(|p| {
+            if p.phases() == 1 {
+                return vec![p.clone()];
+            }
+            let classes = p.recurrent_states();
+            if classes.is_empty() {
+                vec![p.clone()]
+            } else {
+                classes.iter().map(|c| p.restricted_to_states(c)).collect()
+            }
+        })
+        .collect();
+    let combinations = options
+        .iter()
+        .try_fold(1usize, |acc, o| acc.checked_mul(o.len()))
+        .filter(|&c| c <= MAX_CLASS_COMBINATIONS);
+    let mut chosen: Vec<Policy> = options.iter().map(|o| o[0].clone()).collect();
+    let mut best = team_value(instance, &chosen)?;
+    match combinations {
+        Some(count) => {
+            for mut code in 1..count {
+                let team: Vec<Policy> = options
+                    .iter()
+                    .map(|o| {
+                        let pick = code % o.len();
+                        code /= o.len();
+                        o[pick].clone()
+                    })
+                    .collect();
+                let value = team_value(instance, &team)?;
+                if value < best {
+                    (chosen, best) = (team, value);
+                }
+            }
+        }
+        None => {
+            for (i, o) in options.iter().enumerate() {
+                for candidate in &o[1..] {
+                    let mut team = chosen.clone();
+                    team[i] = candidate.clone();
+                    let value = team_value(instance, &team)?;
+                    if value < best {
+                        (chosen, best) = (team, value);
+                    }
+                }
+            }
+        }
+    }
+    Ok(chosen)
 }
 
 #[cfg(test)]
