@@ -124,6 +124,17 @@ impl SimDuration {
     pub fn as_secs_f64(self) -> f64 {
         self.0 as f64 / NANOS_PER_SEC as f64
     }
+    /// `self − other`, or zero if `other` is longer.
+    ///
+    /// ```
+    /// use vitro::time::SimDuration;
+    /// let (a, b) = (SimDuration::from_secs(3), SimDuration::from_secs(5));
+    /// assert_eq!(b.saturating_sub(a), SimDuration::from_secs(2));
+    /// assert_eq!(a.saturating_sub(b), SimDuration::ZERO);
+    /// ```
+    pub const fn saturating_sub(self, other: SimDuration) -> SimDuration {
+        SimDuration(self.0.saturating_sub(other.0))
+    }
     /// Converts to a wall-clock [`std::time::Duration`] of the same length.
     pub fn to_std(self) -> std::time::Duration {
         std::time::Duration::from_nanos(self.0)

@@ -197,13 +197,10 @@ impl Mission {
     /// Runs until simulated time `until` (or the end of the mission), sampling the metrics
     /// every sample period; returns false once the mission is over.
     pub fn advance(&mut self, until: SimTime) -> bool {
-        let vip = self.brief.vip;
+        let brief = self.brief.clone();
         while !self.finished {
             let next = self.next_sample.min(self.end).min(until);
-            let reason = self.sim.run(next, |s| {
-                let st = s.env().conditions.get(vip).map(|c| c.status);
-                matches!(st, Some(Status::Extracted | Status::Down))
-            });
+            let reason = self.sim.run(next, |s| over(s.env(), &brief));
             match reason {
                 StopReason::Condition | StopReason::Requested => {
                     self.take_sample(self.sim.now());
@@ -279,6 +276,26 @@ impl Mission {
             }
         }
         m
+    }
+}
+
+/// True once the mission is over: the VIP is down, or it is out and no hunt goes on (the
+/// high-value target hidden, captured, or no pursuer left on its feet).
+fn over(w: &crate::arena::Arena, brief: &Brief) -> bool {
+    let status = |id| w.conditions.get(id).map(|c| c.status);
+    match status(brief.vip) {
+        Some(Status::Down) => true,
+        Some(Status::Extracted) => {
+            let hunted = brief.hvt.is_some_and(|h| status(h) == Some(Status::Active));
+            let k = brief.mission.hvt_pursuers as usize;
+            let hunting = brief
+                .team
+                .iter()
+                .take(k)
+                .any(|&id| status(id) == Some(Status::Active));
+            !(hunted && hunting)
+        }
+        _ => false,
     }
 }
 

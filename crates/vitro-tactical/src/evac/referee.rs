@@ -30,7 +30,8 @@ pub struct Metrics {
     pub first_detection_s: BTreeMap<String, f64>,
     /// Mean time to the first report over the detected adversaries, seconds.
     pub mean_time_to_detection_s: Option<f64>,
-    /// Time some team member on the move had no drone within the cover radius, seconds.
+    /// Time some team member on foot or the truck had no drone within the cover radius,
+    /// until the VIP was out, seconds.
     pub time_uncovered_s: f64,
     /// The HVT was captured.
     pub hvt_captured: bool,
@@ -114,7 +115,8 @@ impl Referee {
             }
         }
         m.casualties = casualties;
-        if uncovered {
+        // The escort is over once the VIP is out (the hunt may go on).
+        if uncovered && !m.success {
             m.time_uncovered_s += dt;
         }
         m.sim_time_s = now.as_secs_f64();

@@ -4,7 +4,7 @@
 
 use super::SENSE;
 use super::hunt::Search;
-use super::trooper::{DECIDED, TURN};
+use super::trooper::{DECIDED, MIN_TURN, TURN};
 use crate::arena::Ev;
 use crate::condition::Status;
 use crate::evac::act::{Fire, SetStatus, Walk};
@@ -120,6 +120,7 @@ pub struct Hvt {
     under_way: bool,
     /// Turns played.
     pub turns: u32,
+    turn_began: SimTime,
 }
 
 impl Hvt {
@@ -137,6 +138,7 @@ impl Hvt {
             next: None,
             under_way: false,
             turns: 0,
+            turn_began: SimTime::ZERO,
         }
     }
 
@@ -147,6 +149,7 @@ impl Hvt {
         if me.status != Status::Active {
             return;
         }
+        self.turn_began = cx.now();
         let Some(board) = self.brief.board.clone() else {
             return;
         };
@@ -192,7 +195,17 @@ impl Hvt {
         {
             self.under_way = cx.act(&self.walk, node).is_ok();
         }
-        cx.set_timer(SimDuration::from_secs_f64(self.brief.turn_s), TURN);
+        // The next turn starts on arrival (no sooner than MIN_TURN after this one began), or
+        // after a long turn at the latest.
+        cx.set_timer(SimDuration::from_secs_f64(2.0 * self.brief.turn_s), TURN);
+    }
+
+    fn on_arrived(&mut self, cx: &mut Context<'_, Tactical>) {
+        self.under_way = false;
+        if self.turns > 0 {
+            let wait = MIN_TURN.saturating_sub(cx.now().saturating_since(self.turn_began));
+            cx.set_timer(wait, TURN);
+        }
     }
 }
 
@@ -208,7 +221,7 @@ impl Controller for Hvt {
             }
             Input::Timer(TURN) => self.on_turn(cx),
             Input::Timer(DECIDED) => self.on_decided(cx),
-            Input::Event(Ev::Arrived(_)) => self.under_way = false,
+            Input::Event(Ev::Arrived(_)) => self.on_arrived(cx),
             _ => {}
         }
     }

@@ -22,6 +22,8 @@ use vitro::time::SimDuration;
 pub(crate) const TURN: u64 = 20;
 /// Timer key: the hunt's search is done (its simulated thinking time has passed).
 pub(crate) const DECIDED: u64 = 21;
+/// Shortest pursuit turn (a move along a short street still takes this long).
+pub(crate) const MIN_TURN: SimDuration = SimDuration::from_secs(10);
 
 /// What a trooper is doing.
 #[derive(Clone, Debug, PartialEq)]
@@ -55,6 +57,7 @@ pub struct Trooper {
     pub hunt: Option<Hunt>,
     hunters: Vec<EntityId>,
     last_order: Option<Order>,
+    turn_began: vitro::time::SimTime,
     /// The last report sent (to whom, what): repeated if the same order comes again.
     report: Option<(EntityId, &'static str)>,
 }
@@ -72,6 +75,7 @@ impl Trooper {
             hunt: None,
             hunters: Vec::new(),
             last_order: None,
+            turn_began: vitro::time::SimTime::ZERO,
             report: None,
         }
     }
@@ -159,6 +163,13 @@ impl Trooper {
                 tell(cx, boss, Radio::Signal("arrived".into(), String::new()));
             }
             Task::Board(_) => self.try_board(cx),
+            // The lead's move is done: the next turn, no sooner than MIN_TURN after this one
+            // began.
+            Task::Hunt(_) if self.hunt.is_some() => {
+                let spent = cx.now().saturating_since(self.turn_began);
+                let wait = MIN_TURN.saturating_sub(spent);
+                cx.set_timer(wait, TURN);
+            }
             _ => {}
         }
     }
@@ -215,6 +226,7 @@ impl Trooper {
         if !alive {
             return;
         }
+        self.turn_began = cx.now();
         match hunt.turn(cx) {
             HuntStep::Think(delay) => {
                 cx.set_timer(delay, DECIDED);
@@ -243,7 +255,9 @@ impl Trooper {
         if let Some(node) = mine {
             self.walk_to(node, cx);
         }
-        let turn = SimDuration::from_secs_f64(self.brief.turn_s);
+        // The next turn starts when the lead arrives (see on_arrived), or after a long turn
+        // at the latest (a lost arrival, an order refused).
+        let turn = SimDuration::from_secs_f64(2.0 * self.brief.turn_s);
         cx.set_timer(turn, TURN);
     }
 }
