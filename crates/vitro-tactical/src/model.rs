@@ -81,6 +81,9 @@ pub struct Intention {
     pub path: Vec<[f64; 3]>,
     /// The plan as first made, where the current one is a repair of it.
     pub original_plan: Vec<String>,
+    /// A belief about something hidden (e.g. where a pursued target may be): world points
+    /// with their probabilities.
+    pub belief: Vec<([f64; 3], f64)>,
 }
 
 impl Agent<Tactical> for Box<dyn Controller> {

@@ -183,6 +183,7 @@ impl Mission {
                     plan: i.plan,
                     path: i.path,
                     original_plan: i.original_plan,
+                    belief: i.belief,
                     ..Intention::default()
                 })
             })

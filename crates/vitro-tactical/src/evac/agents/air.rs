@@ -302,6 +302,7 @@ impl Controller for Aircraft {
             path: self.path.clone(),
             plan,
             original_plan,
+            ..Intention::default()
         })
     }
 }

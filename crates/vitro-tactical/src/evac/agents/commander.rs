@@ -348,13 +348,13 @@ impl Controller for Commander {
         }
         Some(Intention {
             text: what.into(),
-            original_plan: Vec::new(),
             plan,
             path: if matches!(self.phase, Phase::Out | Phase::Back) {
                 rest
             } else {
                 Vec::new()
             },
+            ..Intention::default()
         })
     }
 }

@@ -195,6 +195,21 @@ impl Hunt {
         )
     }
 
+    /// The team's belief about the target: each possible walk node with its probability.
+    pub fn belief(&self) -> Vec<([f64; 3], f64)> {
+        let Some(b) = &self.belief else {
+            return Vec::new();
+        };
+        b.members()
+            .filter_map(|v| {
+                let p = self
+                    .brief
+                    .node_point(crate::map::Mode::Walk, NodeId(v as u32))?;
+                Some((p, b.prob(v)))
+            })
+            .collect()
+    }
+
     /// The hunt's plan: where the belief puts the target most likely.
     pub fn plan(&self) -> Vec<String> {
         let best = self.belief.as_ref().and_then(|b| b.most_likely());

@@ -310,10 +310,12 @@ impl Controller for Trooper {
             .into_iter()
             .collect();
         let plan = self.hunt.as_ref().map(|h| h.plan()).unwrap_or_default();
+        let belief = self.hunt.as_ref().map(|h| h.belief()).unwrap_or_default();
         Some(Intention {
             text,
             plan,
             path,
+            belief,
             ..Intention::default()
         })
     }
