@@ -243,6 +243,10 @@ impl Mission {
             if red && let Some(name) = self.names.get(&target) {
                 self.referee.contact(name, t);
             }
+            if Some(target) == self.brief.hvt && self.referee.metrics.hvt_first_report_s.is_none() {
+                self.referee.metrics.hvt_first_report_s = Some(t.as_secs_f64());
+                self.referee.log.push((t, "HVT reported".into()));
+            }
         }
         let radius = self.brief.mission.cover_radius_m;
         self.referee

@@ -33,6 +33,8 @@ pub struct Metrics {
     /// Time some team member on foot or the truck had no drone within the cover radius,
     /// until the VIP was out, seconds.
     pub time_uncovered_s: f64,
+    /// When a blue unit first reported the HVT, seconds.
+    pub hvt_first_report_s: Option<f64>,
     /// The HVT was captured.
     pub hvt_captured: bool,
     /// When, seconds.

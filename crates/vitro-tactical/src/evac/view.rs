@@ -121,8 +121,10 @@ impl Mission {
                 _ => w.pose(m.id),
             };
             let Some(p) = pose else { continue };
-            let detected =
-                m.side != Side::Red || self.referee.metrics.first_detection_s.contains_key(&m.name);
+            let metrics = &self.referee.metrics;
+            let detected = m.side != Side::Red
+                || metrics.first_detection_s.contains_key(&m.name)
+                || (Some(m.id) == self.brief.hvt && metrics.hvt_first_report_s.is_some());
             let status = if detected || c.status != Status::Active {
                 c.status.name().to_string()
             } else {
