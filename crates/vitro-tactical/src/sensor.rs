@@ -178,37 +178,52 @@ impl FriendFoeVision {
     }
 }
 
+impl FriendFoeVision {
+    /// One look from `me` at body `b` of entity `id`: `None` if it cannot be seen or the
+    /// detection draw fails; otherwise the sighting, its side drawn with the
+    /// misidentification probability. Draws from `rng` only for bodies it can see.
+    pub fn look(
+        &self,
+        site: &Site,
+        me: &Body,
+        id: EntityId,
+        b: &Body,
+        rng: &mut impl Rng,
+    ) -> Option<Sighting> {
+        if !self.can_see(site, me, b) {
+            return None;
+        }
+        let d = dist3(me.pos, b.pos);
+        if rng.random::<f64>() >= self.detection_probability(d) {
+            return None;
+        }
+        let seen_as = if rng.random::<f64>() < self.misidentification {
+            let others: Vec<Side> = Side::ALL.into_iter().filter(|s| *s != b.side).collect();
+            others[rng.random_range(0..others.len())]
+        } else {
+            b.side
+        };
+        Some(Sighting {
+            id,
+            pos: b.pos,
+            distance: d,
+            bearing: libm::atan2(b.pos[1] - me.pos[1], b.pos[0] - me.pos[0]),
+            seen_as,
+        })
+    }
+}
+
 impl Sensor<World> for FriendFoeVision {
     type Reading = Vec<Sighting>;
     fn read(&self, w: &World, me: EntityId, probe: &mut Probe<'_>) -> Vec<Sighting> {
         let Some(mine) = w.body(me).copied() else {
             return Vec::new();
         };
-        let mut out = Vec::new();
-        for (id, b) in w.bodies.iter() {
-            if id == me || !self.can_see(&w.site, &mine, b) {
-                continue;
-            }
-            let d = dist3(mine.pos, b.pos);
-            let rng = probe.rng("fof");
-            if rng.random::<f64>() >= self.detection_probability(d) {
-                continue;
-            }
-            let seen_as = if rng.random::<f64>() < self.misidentification {
-                let others: Vec<Side> = Side::ALL.into_iter().filter(|s| *s != b.side).collect();
-                others[rng.random_range(0..others.len())]
-            } else {
-                b.side
-            };
-            out.push(Sighting {
-                id,
-                pos: b.pos,
-                distance: d,
-                bearing: libm::atan2(b.pos[1] - mine.pos[1], b.pos[0] - mine.pos[0]),
-                seen_as,
-            });
-        }
-        out
+        w.bodies
+            .iter()
+            .filter(|(id, _)| *id != me)
+            .filter_map(|(id, b)| self.look(&w.site, &mine, id, b, probe.rng("fof")))
+            .collect()
     }
 }
 

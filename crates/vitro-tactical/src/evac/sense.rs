@@ -5,8 +5,7 @@ use crate::arena::Arena;
 use crate::condition::{Condition, Status};
 use crate::entity::Pose;
 use crate::sensor::{FriendFoeVision, Sighting};
-use crate::world::{Body, Side};
-use rand::Rng;
+use crate::world::Body;
 use vitro::entity::EntityId;
 use vitro::env::{Probe, Sensor};
 
@@ -32,41 +31,15 @@ impl Sensor<Arena> for Vision {
         let Some(mine) = body_of(w, me) else {
             return Vec::new();
         };
-        let v = &self.0;
-        let mut out = Vec::new();
-        for (id, _) in w.conditions.iter() {
-            if id == me {
-                continue;
-            }
-            let Some(b) = body_of(w, id) else { continue };
-            if !v.can_see(&w.site, &mine, &b) {
-                continue;
-            }
-            let d = dist(mine.pos, b.pos);
-            let rng = probe.rng("fof");
-            if rng.random::<f64>() >= v.detection_probability(d) {
-                continue;
-            }
-            let seen_as = if rng.random::<f64>() < v.misidentification {
-                let others: Vec<Side> = Side::ALL.into_iter().filter(|s| *s != b.side).collect();
-                others[rng.random_range(0..others.len())]
-            } else {
-                b.side
-            };
-            out.push(Sighting {
-                id,
-                pos: b.pos,
-                distance: d,
-                bearing: libm::atan2(b.pos[1] - mine.pos[1], b.pos[0] - mine.pos[0]),
-                seen_as,
-            });
-        }
-        out
+        w.conditions
+            .iter()
+            .filter(|(id, _)| *id != me)
+            .filter_map(|(id, _)| {
+                let b = body_of(w, id)?;
+                self.0.look(&w.site, &mine, id, &b, probe.rng("fof"))
+            })
+            .collect()
     }
-}
-
-fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
-    libm::sqrt((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2))
 }
 
 /// The entity's own condition and pose (a soldier knows whether he is aboard or down).
