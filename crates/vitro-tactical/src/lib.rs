@@ -19,6 +19,7 @@ pub mod check;
 pub mod condition;
 pub mod entity;
 pub mod evac;
+pub mod formation;
 pub mod geo;
 pub mod info;
 pub mod los;

@@ -102,8 +102,9 @@ pub mod directed {
         }
     }
 
-    /// One kinematic step of every directed trooper on a trip; true if any is still under
-    /// way.
+    /// One kinematic step of every directed trooper on a trip, and of every one driven by
+    /// [`MoveAndTurn`] alone (no trip: it walks straight towards the commanded point, and the
+    /// command ends there); true if any is still under way.
     pub(crate) fn step_all(w: &mut Arena, dt: f64, fx: &mut Effects<'_, Ev>) -> bool {
         let ids: Vec<EntityId> = w
             .walkers
@@ -114,6 +115,30 @@ pub mod directed {
         let mut busy = false;
         for id in ids {
             busy |= step_one(w, id, dt, fx);
+        }
+        busy | step_free(w, dt)
+    }
+
+    /// One step of the troopers [`MoveAndTurn`] drives without a trip; true if any still has
+    /// a command.
+    fn step_free(w: &mut Arena, dt: f64) -> bool {
+        let ids: Vec<EntityId> = w
+            .walkers
+            .iter()
+            .filter(|(id, b)| b.cmd.is_some() && !w.follow.contains(*id))
+            .map(|(id, _)| id)
+            .collect();
+        let rate = w.types.troops.turn_rate();
+        let site = w.site.clone();
+        let mut busy = false;
+        for id in ids {
+            w.walkers.update(id, |b| {
+                if b.step(rate * dt, dt, |p| site.ground(p)).is_some() {
+                    b.cmd = None;
+                    b.speed = 0.0;
+                }
+                busy |= b.cmd.is_some();
+            });
         }
         busy
     }
