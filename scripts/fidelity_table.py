@@ -4,17 +4,18 @@ extraction per level, as a Markdown table (and the raw rows as CSV).
 
     cargo build --release -p vitro-cli
     python3 scripts/fidelity_table.py [--seeds 100] [--levels discrete,interpolated,physical]
-                                      [--jobs 2] [--out docs/fidelity.csv]
+                                      [--jobs 2] [--until 900] [--out docs/fidelity.csv]
 
-Each run is `vitro run scenarios/evacuation.toml --json --seed S --fidelity LEVEL`; seeds
+Each run is `vitro run scenarios/evacuation.toml --json --seed S --fidelity LEVEL --until T`; seeds
 are 1..N, so any row can be re-run alone.
 """
 import argparse, csv, json, math, statistics, subprocess, sys
 from concurrent.futures import ThreadPoolExecutor
 
-def run(binary, scenario, level, seed):
+def run(binary, scenario, level, seed, until):
     p = subprocess.run([binary, "run", scenario, "--json", "--seed", str(seed),
-                        "--fidelity", level], capture_output=True, text=True)
+                        "--fidelity", level, "--until", str(until)],
+                       capture_output=True, text=True)
     if p.returncode not in (0, 4):
         return {"level": level, "seed": seed, "error": p.stderr.strip()}
     r = json.loads(p.stdout)
@@ -29,12 +30,14 @@ def main():
     ap.add_argument("--seeds", type=int, default=100)
     ap.add_argument("--levels", default="discrete,interpolated,physical")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--until", type=float, default=900.0,
+                    help="simulated seconds per run (the escort is over by 900 s)")
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
     levels = a.levels.split(",")
     jobs = [(l, s) for l in levels for s in range(1, a.seeds + 1)]
     with ThreadPoolExecutor(a.jobs) as ex:
-        rows = list(ex.map(lambda j: run(a.binary, a.scenario, *j), jobs))
+        rows = list(ex.map(lambda j: run(a.binary, a.scenario, *j, a.until), jobs))
     errors = [r for r in rows if "error" in r]
     for e in errors:
         print(f"run {e['level']} seed {e['seed']} failed: {e['error']}", file=sys.stderr)
