@@ -47,10 +47,11 @@ pub enum AirRole {
 
 /// Index of the route node nearest to `p` (the truck's progress along the route).
 pub fn progress(brief: &Brief, p: [f64; 3]) -> usize {
+    let town = brief.site.to_town([p[0], p[1]]);
+    let g = &brief.roads.of(Mode::Drive).graph;
     let d = |n: NodeId| {
-        brief
-            .node_point(Mode::Drive, n)
-            .map_or(f64::INFINITY, |q| libm::hypot(q[0] - p[0], q[1] - p[1]))
+        g.node(n)
+            .map_or(f64::INFINITY, |s| libm::hypot(s.pos[0] - town[0], s.pos[1] - town[1]))
     };
     (0..brief.route.len())
         .min_by(|&a, &b| {
