@@ -19,7 +19,9 @@ impl Recording {
     }
     /// Records the mission's current frame.
     pub(crate) fn frame(&mut self, mission: &mut Mission) -> anyhow::Result<()> {
-        self.rec.frame(&mission.frame()).context("writing a frame")?;
+        self.rec
+            .frame(&mission.frame())
+            .context("writing a frame")?;
         Ok(())
     }
     /// Ends the recording (writes the MCAP summary).

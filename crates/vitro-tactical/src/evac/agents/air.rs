@@ -50,8 +50,9 @@ pub fn progress(brief: &Brief, p: [f64; 3]) -> usize {
     let town = brief.site.to_town([p[0], p[1]]);
     let g = &brief.roads.of(Mode::Drive).graph;
     let d = |n: NodeId| {
-        g.node(n)
-            .map_or(f64::INFINITY, |s| libm::hypot(s.pos[0] - town[0], s.pos[1] - town[1]))
+        g.node(n).map_or(f64::INFINITY, |s| {
+            libm::hypot(s.pos[0] - town[0], s.pos[1] - town[1])
+        })
     };
     (0..brief.route.len())
         .min_by(|&a, &b| {
