@@ -1,10 +1,12 @@
 //! The squad leader: takes orders, walks the walk graph with the squad in formation, and
 //! runs the leader's rule program (formation, pace, arrival).
 
-use super::kb::{self, Signature, answers, atom, fact};
+use super::ground::{self, Ground};
+use super::kb::{self, Signature};
 use super::motion::{Follow, Mover, xy};
 use super::pattern::{Pattern, Trail, slot_point};
-use super::sense::{FreeSlot, Hostiles, NearestNode, SideClearance, WalkRoute};
+use super::record::{Arrival, Switch, TrackPoint};
+use super::sense::{FreeSlot, Gait, Hostiles, NearestNode, WalkRoute};
 use super::{FormationError, FormationParams};
 use crate::arena::{Ev, OwnPose, TrackTarget};
 use crate::entity::route::wrap_angle;
@@ -18,7 +20,10 @@ use vitro::entity::EntityId;
 use vitro::protocol::TimerTag;
 use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
-use vitro_algo::rules::{Bindings, Interpreter, KbError, ModuleSet, Query, Term, Update};
+use vitro_algo::rules::Interpreter;
+
+mod modules;
+use modules::Bound;
 
 /// The leader's modules and their update operations.
 const MODULES: Signature = &[
@@ -36,73 +41,8 @@ const TICK: TimerTag = TimerTag(0x464c);
 const REBRIEF: SimDuration = SimDuration::from_secs(10);
 /// A change of the facing beyond this (radians) calls for a new briefing.
 const FACING_CHANGE: f64 = 10.0 * std::f64::consts::PI / 180.0;
-/// Where the leader probes the ground, metres ahead along its route.
-const PROBES: [f64; 4] = [0.0, 5.0, 10.0, 15.0];
-
-/// What the ground ahead of the leader is (see the [module docs](super)).
-#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Ground {
-    /// Walls close on both sides.
-    Narrow,
-    /// Walls on both sides.
-    Street,
-    /// Not walled in on both sides.
-    Open,
-}
-
-impl Ground {
-    /// The name in the leader program: `narrow`, `street`, `open`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Ground::Narrow => "narrow",
-            Ground::Street => "street",
-            Ground::Open => "open",
-        }
-    }
-}
-
-/// One logged position.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TrackPoint {
-    /// When.
-    pub t: SimTime,
-    /// Who (the leader or a member).
-    pub id: EntityId,
-    /// Where, world metres.
-    pub pos: [f64; 3],
-    /// For a member: its slot then (free of forbidden zones; at the discrete level the node
-    /// nearest to it), world metres.
-    pub slot: Option<P2>,
-}
-
-/// A change of formation.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Switch {
-    /// When.
-    pub t: SimTime,
-    /// The formation before.
-    pub from: Pattern,
-    /// The formation after.
-    pub to: Pattern,
-    /// What the leader's eyes reported: `contact`, or the ground (`narrow`, `street`,
-    /// `open`).
-    pub reason: String,
-    /// Where the leader was, world metres.
-    pub at: P2,
-}
-
-/// An order carried out.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Arrival {
-    /// When `arrived` was sent.
-    pub t: SimTime,
-    /// Who gave the order (and was told).
-    pub requester: EntityId,
-    /// The ordered point, world metres.
-    pub goal: P2,
-    /// True if every member was at its slot; false if the leader stopped waiting.
-    pub gathered: bool,
-}
+/// How often the leader looks at the ground.
+const LOOK_EVERY: SimDuration = SimDuration::from_secs(1);
 
 /// How much the squad lags: the worst member's distance to its slot.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -140,13 +80,23 @@ struct State {
     briefed_facing: Option<f64>,
     trail: Trail,
     route: Option<Route>,
-    at_goal_since: Option<SimTime>,
+    /// Since when the leader has stood at the goal, and how long it may wait there.
+    at_goal_since: Option<(SimTime, SimDuration)>,
     lag: Lag,
-    lag_since: Option<SimTime>,
+    /// Since when the squad has lagged, and how long the leader may slow or wait for it.
+    lag_since: Option<(SimTime, SimDuration)>,
+    /// The worst member's distance to its slot at the latest cycle, metres.
+    worst: f64,
+    /// The leader's own walking speed, m/s.
+    walk: f64,
+    /// Per slot at the discrete level: the slot last looked up and its nearest node.
+    nodes: Vec<Option<(P2, P2)>>,
     gathered: bool,
     pace: Option<Pace>,
     contact: Option<(SimTime, P2)>,
     ground: Ground,
+    /// When the ground is next looked at.
+    next_look: SimTime,
     pose: Option<Pose>,
     mover: Mover,
     next_log: SimTime,
@@ -206,10 +156,14 @@ impl Leader {
                 at_goal_since: None,
                 lag: Lag::None,
                 lag_since: None,
+                worst: 0.0,
+                walk: 1.0,
+                nodes: Vec::new(),
                 gathered: true,
                 pace: None,
                 contact: None,
                 ground: Ground::Open,
+                next_look: SimTime::ZERO,
                 pose: None,
                 mover: Mover::default(),
                 next_log: SimTime::ZERO,
@@ -279,16 +233,21 @@ impl Leader {
         let keep = (st.roster.len() as f64 + 2.0) * st.params.spacing + 10.0;
         st.trail.record(me, keep);
         st.look_out(cx, me);
+        st.walk = cx.sense(&Gait).unwrap_or(st.walk);
+        let slots = st.measure(cx, &pose);
+        let allowance = st.allowance(pose.level);
         if let Some(r) = &mut st.route {
             if pose.level != Level::Discrete {
                 r.follow.advance(me);
             }
             if r.follow.done(pose.level) {
-                st.at_goal_since.get_or_insert(now);
+                st.at_goal_since.get_or_insert((now, allowance));
             }
         }
-        let slots = st.measure(cx, &pose);
-        st.ground = st.classify(cx, &pose);
+        if now >= st.next_look {
+            st.next_look = now + LOOK_EVERY;
+            st.ground = st.classify(cx, &pose);
+        }
         if now >= st.next_log {
             st.next_log = now + st.params.log_every;
             st.log.push(TrackPoint {
@@ -369,8 +328,19 @@ impl State {
     }
 
     fn now_waited_out(&self, now: SimTime) -> bool {
-        let out = |t: Option<SimTime>| t.is_some_and(|t| now - t >= self.params.straggler_timeout);
+        let out = |t: Option<(SimTime, SimDuration)>| t.is_some_and(|(t, d)| now - t >= d);
         out(self.lag_since) || out(self.at_goal_since)
+    }
+
+    /// How long the leader may wait for the squad, from now: the straggler timeout, plus at
+    /// the discrete level the time to walk the worst member's gap (a member there covers a
+    /// whole edge before it is any nearer, and edges can take minutes).
+    fn allowance(&self, level: Level) -> SimDuration {
+        let mut d = self.params.straggler_timeout;
+        if level == Level::Discrete {
+            d += SimDuration::from_secs_f64(self.worst / self.walk.max(0.1));
+        }
+        d
     }
 
     /// Plans the walk to `goal` for `requester`.
@@ -448,10 +418,20 @@ impl State {
                 self.briefed_facing,
             );
             let mut slot = cx.sense(&FreeSlot { base, slot: raw });
-            if pose.level == Level::Discrete
-                && let Some((_, at)) = cx.sense(&NearestNode(slot))
-            {
-                slot = at;
+            if pose.level == Level::Discrete {
+                // The node nearest the slot (looked up again only when the slot moved).
+                let known = self.nodes.get(i).copied().flatten();
+                slot = match known {
+                    Some((s, at)) if dist(s, slot) < 0.5 => at,
+                    _ => {
+                        let at = cx.sense(&NearestNode(slot)).map_or(slot, |(_, at)| at);
+                        if self.nodes.len() <= i {
+                            self.nodes.resize(i + 1, None);
+                        }
+                        self.nodes[i] = Some((slot, at));
+                        at
+                    }
+                };
             }
             worst = worst.max(dist(xy(&their), slot));
             out.push(TrackPoint {
@@ -475,80 +455,25 @@ impl State {
             Lag::None
         };
         self.gathered = worst <= p.gather;
+        self.worst = worst;
         if self.lag == Lag::None {
             self.lag_since = None;
-        } else {
-            self.lag_since.get_or_insert(now);
+        } else if self.lag_since.is_none() {
+            self.lag_since = Some((now, self.allowance(pose.level)));
         }
         out
     }
 
-    /// The ground ahead: probes at [`PROBES`] metres along the route (along the heading
-    /// without one); a single walled probe keeps the previous reading.
+    /// The ground ahead: probes along the route (along the heading without one).
     fn classify(&self, cx: &mut Context<'_, Tactical>, pose: &Pose) -> Ground {
         let me = xy(pose);
-        let mut probes: Vec<(P2, f64)> = Vec::new();
-        match &self.route {
+        let probes = match &self.route {
             Some(r) if !r.follow.done(pose.level) => {
-                let pts = &r.follow.leg.pts;
-                let mut along = 0.0;
-                let mut prev = me;
-                let mut marks = PROBES.iter().peekable();
-                for i in r.follow.next.min(pts.len())..pts.len() {
-                    let q = [pts[i][0], pts[i][1]];
-                    along += dist(prev, q);
-                    prev = q;
-                    while marks.peek().is_some_and(|&&m| m <= along) {
-                        marks.next();
-                        let a = pts[i.saturating_sub(1)];
-                        let b = pts[(i + 1).min(pts.len() - 1)];
-                        let dir = if dist([a[0], a[1]], [b[0], b[1]]) > 1e-9 {
-                            libm::atan2(b[1] - a[1], b[0] - a[0])
-                        } else {
-                            pose.heading
-                        };
-                        probes.push((q, dir));
-                    }
-                }
+                ground::along(&r.follow.leg.pts, r.follow.next, me, pose.heading)
             }
-            _ => {
-                let (s, c) = (libm::sin(pose.heading), libm::cos(pose.heading));
-                probes.extend(
-                    PROBES
-                        .iter()
-                        .map(|&d| ([me[0] + d * c, me[1] + d * s], pose.heading)),
-                );
-            }
-        }
-        if probes.is_empty() {
-            probes.push((me, pose.heading));
-        }
-        let reach = self.params.street_reach;
-        let (mut narrow, mut walled) = (0, 0);
-        for (at, heading) in &probes {
-            let [l, r] = cx.sense(&SideClearance {
-                at: *at,
-                heading: *heading,
-                reach,
-            });
-            if l < reach && r < reach {
-                walled += 1;
-                if l + r <= self.params.narrow_width {
-                    narrow += 1;
-                }
-            }
-        }
-        let need = probes.len().min(2);
-        if narrow >= need {
-            Ground::Narrow
-        } else if walled >= need {
-            Ground::Street
-        } else if walled == 0 {
-            Ground::Open
-        } else {
-            // One walled probe of several: not enough to call it a street, nor to leave one.
-            self.ground
-        }
+            _ => ground::ahead(me, pose.heading),
+        };
+        ground::look(cx, &probes, &self.params, self.ground)
     }
 
     /// Moves the leader at the pace the program chose (halts without one).
@@ -615,126 +540,6 @@ impl State {
     }
 }
 
-/// The leader's modules bound to its state and context for one cycle.
-struct Bound<'a, 'c> {
-    st: &'a mut State,
-    cx: &'a mut Context<'c, Tactical>,
-}
-
-impl ModuleSet for Bound<'_, '_> {
-    fn find(&self, name: &str) -> Option<usize> {
-        kb::index(MODULES, name)
-    }
-
-    fn supports(&self, module: usize, op: &str) -> bool {
-        MODULES
-            .get(module)
-            .is_some_and(|(_, ops)| ops.contains(&op))
-    }
-
-    fn query(&mut self, module: usize, q: &Query) -> Vec<Bindings> {
-        let st = &*self.st;
-        let now = self.cx.now();
-        let mut facts = Vec::new();
-        match module {
-            EYES => {
-                if st.contact.is_some() {
-                    facts.push(Term::atom("contact"));
-                }
-                facts.push(fact("ground", Term::atom(st.ground.name())));
-            }
-            SQUAD => {
-                facts.push(fact("formation", Term::atom(st.pattern.name())));
-                if st.switched_at.is_none_or(|t| now - t >= st.params.settle) {
-                    facts.push(Term::atom("settled"));
-                }
-                let lag = match st.lag {
-                    Lag::None => "none",
-                    Lag::Some => "some",
-                    Lag::Far => "far",
-                };
-                facts.push(fact("lag", Term::atom(lag)));
-                if st.now_waited_out(now) {
-                    facts.push(Term::atom("waited_out"));
-                }
-                if st.gathered {
-                    facts.push(Term::atom("gathered"));
-                }
-                if st.unbriefed(now) {
-                    facts.push(Term::atom("unbriefed"));
-                }
-            }
-            ROUTE => {
-                let level = st.pose.map_or(Level::Directed, |p| p.level);
-                facts.push(Term::atom(match &st.route {
-                    None => "idle",
-                    Some(r) if r.follow.done(level) => "at_goal",
-                    Some(_) => "under_way",
-                }));
-            }
-            _ => {}
-        }
-        answers(q, facts)
-    }
-
-    fn update(&mut self, module: usize, u: &Update) -> Result<(), KbError> {
-        let st = &mut *self.st;
-        let cx = &mut *self.cx;
-        match (module, u.op.as_str()) {
-            (SQUAD, "form") => {
-                let name = atom(u)?;
-                let to = Pattern::from_name(name)
-                    .ok_or_else(|| KbError::Refused(format!("no formation {name}")))?;
-                let reason = if st.contact.is_some() {
-                    "contact"
-                } else {
-                    st.ground.name()
-                };
-                st.switches.push(Switch {
-                    t: cx.now(),
-                    from: st.pattern,
-                    to,
-                    reason: reason.into(),
-                    at: st.pose.as_ref().map_or([0.0; 2], xy),
-                });
-                st.pattern = to;
-                st.switched_at = Some(cx.now());
-                st.briefed = false;
-                Ok(())
-            }
-            (SQUAD, "brief") => {
-                st.brief(cx);
-                Ok(())
-            }
-            (ROUTE, "pace") => {
-                st.pace = Some(match atom(u)? {
-                    "normal" => Pace::Normal,
-                    "slow" => Pace::Slow,
-                    "halt" => Pace::Halt,
-                    other => return Err(KbError::Refused(format!("no pace {other}"))),
-                });
-                Ok(())
-            }
-            (ROUTE, "report") => {
-                let Some(r) = st.route.take() else {
-                    return Err(KbError::Refused("no order to report on".into()));
-                };
-                let msg = Radio::Signal(atom(u)?.to_string(), String::new());
-                cx.send(Outgoing::new(Address::Agent(r.requester), msg));
-                st.arrivals.push(Arrival {
-                    t: cx.now(),
-                    requester: r.requester,
-                    goal: r.goal,
-                    gathered: st.gathered,
-                });
-                st.at_goal_since = None;
-                Ok(())
-            }
-            (_, op) => Err(KbError::UnknownOperation(op.into())),
-        }
-    }
-}
-
 impl Controller for Leader {
     fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
         match input {
@@ -749,6 +554,9 @@ impl Controller for Leader {
                 if let Some(r) = &mut self.st.route {
                     r.follow.hopped(*n);
                 }
+                // At the discrete level the leader waits node by node: each node reached
+                // opens a new wait for stragglers.
+                self.st.lag_since = None;
             }
             Input::Message(env) => self.hear(env, cx),
             _ => {}

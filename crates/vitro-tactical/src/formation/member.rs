@@ -293,12 +293,16 @@ impl State {
         let slot = cx.sense(&FreeSlot { base, slot: raw });
         // Where the slot will be in one period if the leader keeps its speed and heading.
         let ahead = lead.speed * self.params.period.as_secs_f64();
-        let (s, c) = (libm::sin(lead.heading), libm::cos(lead.heading));
-        let shift = |p: P2| [p[0] + ahead * c, p[1] + ahead * s];
-        let target = cx.sense(&FreeSlot {
-            base: shift(base),
-            slot: shift(raw),
-        });
+        let target = if ahead > 0.01 && pose.level != Level::Discrete {
+            let (s, c) = (libm::sin(lead.heading), libm::cos(lead.heading));
+            let shift = |p: P2| [p[0] + ahead * c, p[1] + ahead * s];
+            cx.sense(&FreeSlot {
+                base: shift(base),
+                slot: shift(raw),
+            })
+        } else {
+            slot
+        };
         let me = xy(pose);
         self.clear = cx.sense(&ClearWay {
             from: me,

@@ -30,7 +30,7 @@
 //! ([`MEMBER_PROGRAM`], `data/rules/formation/member.jz`) choose how to reach their slots.
 //! The modules (what a program can ask and do) are listed at the top of each file.
 //!
-//! **Street or open ground.** The leader probes the map ([`sense::SideClearance`]) at four
+//! **Street or open ground.** Every second the leader probes the map ([`sense::SideClearance`]) at four
 //! points of its route: where it stands and 5, 10 and 15 m ahead. At each it measures the
 //! free distance to the left and to the right, across the route, up to
 //! [`FormationParams::street_reach`]. A point with forbidden ground within that reach on
@@ -79,11 +79,13 @@
 //! period (capped at their walking speed × 1.25, or their running speed × when far), and the
 //! leader follows its walk route with `MoveAndTurn` at the route's Pandolf walking speed
 //! (scaled down to slow). At the **discrete** level (walk-graph nodes) there is no
-//! `MoveAndTurn`: the leader hops node by node with `WalkToNode` (waiting at nodes; it
-//! cannot slow down), and each member hops to the node nearest its slot whenever it is at
-//! rest. The formation there is only as fine as the graph: members bunch on the nodes near
-//! their slots, and slot errors are of the order of the node spacing; the leader measures
-//! lag against the node nearest each slot, so it still waits for stragglers.
+//! `MoveAndTurn`: the leader hops node by node with `WalkToNode` (it cannot slow down; it
+//! waits at each node for the stragglers, the timeout counted afresh at every node and
+//! lengthened by the time to walk the worst gap, since edges can take minutes), and
+//! each member hops to the node nearest its slot whenever it is at rest. The formation is
+//! then only as fine as the graph: slots snap to nodes (often the leader's own), members
+//! bunch on them and trail the leader by a hop, leapfrogging from node to node; the leader
+//! measures lag against the node nearest each slot.
 //!
 //! # Example
 //!
@@ -140,17 +142,21 @@
 //! [`Radio::Contact`]: crate::radio::Radio::Contact
 //! [`EntityId`]: vitro::entity::EntityId
 
+mod ground;
 mod kb;
 mod leader;
 mod member;
 mod motion;
 mod pattern;
+mod record;
 mod script;
 pub mod sense;
 
-pub use leader::{Arrival, Ground, Leader, Switch, TrackPoint};
+pub use ground::{Ground, PROBES};
+pub use leader::Leader;
 pub use member::Member;
 pub use pattern::{Pattern, Trail, slot_point};
+pub use record::{Arrival, Switch, TrackPoint};
 pub use script::Script;
 
 use vitro::time::SimDuration;

@@ -37,6 +37,9 @@ impl Mover {
     ) -> Result<(), MoveError> {
         match pose.level {
             Level::Discrete => {
+                if self.hopping {
+                    return Ok(());
+                }
                 let Some((node, at)) = cx.sense(&NearestNode(to)) else {
                     return Ok(());
                 };

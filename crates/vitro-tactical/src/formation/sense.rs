@@ -22,12 +22,15 @@ use vitro::env::{NodeId, Probe, Sensor};
 /// Spacing of the probes along a straight way, metres. A way that clips the rounded corner
 /// of a zone's buffer (radius ≥ 1 m) between two probes enters it by at most
 /// `0.1² / 8` m ≈ 1.3 mm; within [`WAY_END`] of either end, where ways start and stop by
-/// zone edges, probes are [`WAY_END_PROBE`] apart (at most 0.01 mm).
+/// zone edges, probes are [`WAY_END_PROBE`] apart (at most 0.02 mm).
 pub const WAY_PROBE: f64 = 0.1;
 /// The stretch at each end of a way probed finely, metres.
 pub const WAY_END: f64 = 0.3;
 /// Spacing of the probes near the ends of a way, metres.
-pub const WAY_END_PROBE: f64 = 0.005;
+pub const WAY_END_PROBE: f64 = 0.01;
+/// Spacing of the probes on the way from a slot's base to the slot ([`FreeSlot`]: a test of
+/// which side of an obstacle the slot is on, not a way anyone walks), metres.
+pub const SLOT_PROBE: f64 = 0.25;
 /// How far a slot is kept from the edge of a forbidden zone where there is room, metres.
 pub const SLOT_MARGIN: f64 = 0.3;
 
@@ -48,21 +51,24 @@ pub struct ClearWay {
 impl Sensor<Arena> for ClearWay {
     type Reading = bool;
     fn read(&self, env: &Arena, _: EntityId, _: &mut Probe<'_>) -> bool {
-        clear_way(env, self.from, self.to)
+        clear_way(env, self.from, self.to, true)
     }
 }
 
-pub(crate) fn clear_way(env: &Arena, a: P2, b: P2) -> bool {
+/// Whether the way from `a` to `b` is clear: for a way a body walks (`walked`), probed every
+/// [`WAY_PROBE`] metres and finely near its ends; otherwise every [`SLOT_PROBE`] metres.
+fn clear_way(env: &Arena, a: P2, b: P2, walked: bool) -> bool {
     let len = dist(a, b);
     let free = |t: f64| {
         !env.site
             .is_forbidden([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
     };
-    let n = (len / WAY_PROBE).ceil().max(1.0) as usize;
+    let step = if walked { WAY_PROBE } else { SLOT_PROBE };
+    let n = (len / step).ceil().max(1.0) as usize;
     if !(0..=n).all(|i| free(i as f64 / n as f64)) {
         return false;
     }
-    if len < 1e-9 {
+    if len < 1e-9 || !walked {
         return true;
     }
     let end = WAY_END.min(len / 2.0);
@@ -89,11 +95,11 @@ impl Sensor<Arena> for FreeSlot {
     type Reading = P2;
     fn read(&self, env: &Arena, _: EntityId, _: &mut Probe<'_>) -> P2 {
         let (a, b) = (self.base, self.slot);
-        if clear_way(env, a, b) {
+        if clear_way(env, a, b, false) {
             return off_edge(env, a, b);
         }
         let nearest = env.site.nearest_free(b);
-        if clear_way(env, a, nearest) {
+        if clear_way(env, a, nearest, false) {
             return off_edge(env, a, nearest);
         }
         let n = (dist(a, b) / WAY_PROBE).ceil().max(1.0) as usize;
@@ -135,7 +141,7 @@ fn off_edge(env: &Arena, base: P2, p: P2) -> P2 {
         p[0] + SLOT_MARGIN * push[0] / n,
         p[1] + SLOT_MARGIN * push[1] / n,
     ];
-    if clear_way(env, base, q) { q } else { p }
+    if clear_way(env, base, q, false) { q } else { p }
 }
 
 /// Free distance from a world point to the left and to the right of a direction, up to
@@ -209,7 +215,7 @@ impl Sensor<Arena> for WalkRoute {
         let start = near
             .iter()
             .copied()
-            .find(|&(_, p)| clear_way(env, self.from, p))?
+            .find(|&(_, p)| clear_way(env, self.from, p, true))?
             .0;
         let goal = walk.nearest_connected(site.to_town(self.to))?;
         let path = walk.path(start, goal).ok()?;
