@@ -6,7 +6,7 @@ use super::kb::{self, Signature};
 use super::motion::{Follow, Mover, xy};
 use super::pattern::{Pattern, Trail, slot_point};
 use super::record::{Arrival, Switch, TrackPoint};
-use super::sense::{FreeSlot, Gait, Hostiles, NearestNode, WalkRoute};
+use super::sense::{FreeSlot, Gait, Hostiles, Leg, NearestNode, WalkRoute};
 use super::{FormationError, FormationParams};
 use crate::arena::{Ev, OwnPose, TrackTarget};
 use crate::entity::route::wrap_angle;
@@ -80,6 +80,8 @@ struct State {
     briefed_facing: Option<f64>,
     trail: Trail,
     route: Option<Route>,
+    /// The route being walked when a `Hold` came.
+    held: Option<Follow>,
     /// Since when the leader has stood at the goal, and how long it may wait there.
     at_goal_since: Option<(SimTime, SimDuration)>,
     lag: Lag,
@@ -153,6 +155,7 @@ impl Leader {
                 briefed_facing: None,
                 trail: Trail::new(),
                 route: None,
+                held: None,
                 at_goal_since: None,
                 lag: Lag::None,
                 lag_since: None,
@@ -228,6 +231,8 @@ impl Leader {
         };
         let st = &mut self.st;
         st.pose = Some(pose);
+        let me_id = cx.me();
+        st.roster.retain(|&m| m != me_id);
         let now = cx.now();
         let me = xy(&pose);
         let keep = (st.roster.len() as f64 + 2.0) * st.params.spacing + 10.0;
@@ -274,7 +279,7 @@ impl Leader {
         match &env.body {
             Radio::Order(Order::GoTo(p)) => st.go_to(cx, env.from, *p),
             Radio::Order(Order::Hold) => {
-                st.route = None;
+                st.held = st.route.take().map(|r| r.follow);
                 st.at_goal_since = None;
                 if let Some(pose) = cx.sense(&OwnPose)
                     && let Err(e) = st.mover.stop(cx, &pose)
@@ -314,6 +319,26 @@ fn dismiss(cx: &mut Context<'_, Tactical>, id: EntityId) {
     cx.send(Outgoing::new(Address::Agent(id), msg));
 }
 
+/// The rest of `old` up to its next node, then the walk route from that node to `goal`.
+fn splice(cx: &mut Context<'_, Tactical>, old: &Follow, goal: P2) -> Option<Leg> {
+    let &(end, _) = old.leg.nodes.iter().find(|&&(i, _)| i >= old.next)?;
+    let node = old.leg.pts.get(end)?;
+    let tail = cx.sense(&WalkRoute {
+        from: [node[0], node[1]],
+        to: goal,
+    })?;
+    let mut leg = Leg {
+        pts: old.leg.pts[old.next..=end].to_vec(),
+        v: old.leg.v[old.next..=end].to_vec(),
+        nodes: Vec::new(),
+    };
+    let shift = leg.pts.len() - 1;
+    leg.pts.extend(tail.pts.iter().skip(1));
+    leg.v.extend(tail.v.iter().skip(1));
+    leg.nodes = tail.nodes.iter().map(|&(i, n)| (i + shift, n)).collect();
+    Some(leg)
+}
+
 /// An entity number as written in `join` / `leave`: `7` or `#7`.
 fn parse_id(s: &str) -> Option<EntityId> {
     let s = s.trim();
@@ -345,13 +370,25 @@ impl State {
 
     /// Plans the walk to `goal` for `requester`.
     fn go_to(&mut self, cx: &mut Context<'_, Tactical>, requester: EntityId, goal: P2) {
-        let leg = cx.sense(&OwnPose).and_then(|p| {
+        let pose = cx.sense(&OwnPose);
+        let mut leg = pose.and_then(|p| {
             cx.sense(&WalkRoute {
                 from: xy(&p),
                 to: goal,
             })
         });
+        if leg.is_none() && pose.is_some_and(|p| p.level != Level::Discrete) {
+            // No node in a straight line from here (held on a bend): on along the route
+            // walked so far to its next node, and from there.
+            let old = self
+                .route
+                .as_ref()
+                .map(|r| &r.follow)
+                .or(self.held.as_ref());
+            leg = old.and_then(|f| splice(cx, f, goal));
+        }
         self.at_goal_since = None;
+        self.held = None;
         match leg {
             Some(leg) => {
                 self.route = Some(Route {
@@ -480,6 +517,7 @@ impl State {
     fn drive(&mut self, cx: &mut Context<'_, Tactical>, pose: &Pose) {
         let me = xy(pose);
         let pace = self.pace.unwrap_or(Pace::Halt);
+        let mut off_route = false;
         let result = match &mut self.route {
             Some(r) if pace != Pace::Halt && !r.follow.done(pose.level) => match pose.level {
                 Level::Discrete => match r.follow.next_hop() {
@@ -497,14 +535,22 @@ impl State {
                     match r.follow.target(cx, me, look) {
                         Some((to, v)) => self.mover.toward(cx, pose, to, v * factor),
                         None => {
-                            self.problem("no straight way onto the route".into());
-                            self.mover.stop(cx, pose)
+                            // The route itself is free (the free walk graph); on to its
+                            // next point, whatever the probes say.
+                            off_route = true;
+                            match r.follow.next_point() {
+                                Some((to, v)) => self.mover.toward(cx, pose, to, v * factor),
+                                None => self.mover.stop(cx, pose),
+                            }
                         }
                     }
                 }
             },
             _ => self.mover.stop(cx, pose),
         };
+        if off_route {
+            self.problem("no straight way onto the route".into());
+        }
         if let Err(e) = result {
             self.problem(e.to_string());
         }

@@ -11,81 +11,95 @@
 //! [`Pattern`]s (file, column, line, wedge) give each member `k` (1, 2, ...) a slot offset
 //! `(forward, left)` in the leader's frame, scaled by [`FormationParams::spacing`]. A slot
 //! behind the leader is measured **along the leader's trail** (the way it walked), then
-//! across it, so that a file turns corners the way the leader did; a slot abreast is measured
-//! from the leader's heading, or from the bearing to the threat in contact
-//! ([`slot_point`]). A slot in a forbidden zone moves to the nearest free point
-//! ([`Site::nearest_free`](crate::site::Site::nearest_free)); a slot (moved or not) that is
-//! behind an obstacle as seen from the point of the leader's way it is measured from is
-//! pulled in to the last free point before the obstacle ([`sense::FreeSlot`]), so that
-//! members stay on the leader's side of houses. A member walks to its slot in a straight
-//! line when that way is clear ([`sense::ClearWay`]), and along the walk graph
-//! ([`sense::WalkRoute`]) when it is not; one with no walk-graph node in a straight line
-//! backs out the way it came.
+//! across it, so that a file turns corners the way the leader did; a slot abreast is
+//! measured from the leader's heading, or from the bearing to the threat in contact
+//! ([`slot_point`]). Obstacles ([`sense::FreeSlot`]): a slot in a forbidden zone moves to the
+//! nearest free point ([`Site::nearest_free`](crate::site::Site::nearest_free)); a slot that
+//! is behind an obstacle as seen from the point of the leader's way it is measured from
+//! (moved or not) is pulled in to the last free point before the obstacle, so that members
+//! stay on the leader's side of houses; where there is room, a slot is kept 0.3 m off zone
+//! edges.
+//!
+//! A member walks straight to its slot when that way is clear ([`sense::ClearWay`]);
+//! otherwise it goes round by the leader's way (the slot's base point, or the nearest point
+//! of the leader's trail in a straight line), else along the walk graph
+//! ([`sense::WalkRoute`]), and one with no walk-graph node in a straight line backs out the
+//! way it came. Ways are probed every 0.1 m (1 cm near their ends), so a body never enters a
+//! zone by more than about a millimetre between probes (none was seen in the tests).
 //!
 //! # The programs
 //!
 //! Both controllers run a rule program ([`vitro_algo::rules`]) once per
 //! [`FormationParams::period`]. The leader's program ([`LEADER_PROGRAM`],
-//! `data/rules/formation/leader.jz`) chooses the formation and the pace; the members'
-//! ([`MEMBER_PROGRAM`], `data/rules/formation/member.jz`) choose how to reach their slots.
-//! The modules (what a program can ask and do) are listed at the top of each file.
+//! `data/rules/formation/leader.jz`) chooses the formation and the pace and says when the
+//! squad has arrived; the members' ([`MEMBER_PROGRAM`], `data/rules/formation/member.jz`)
+//! choose how to reach their slots and report what they see. The modules (what a program
+//! can ask and do) are listed at the top of each file.
 //!
-//! **Street or open ground.** Every second the leader probes the map ([`sense::SideClearance`]) at four
-//! points of its route: where it stands and 5, 10 and 15 m ahead. At each it measures the
-//! free distance to the left and to the right, across the route, up to
-//! [`FormationParams::street_reach`]. A point with forbidden ground within that reach on
-//! **both** sides is in a street; a narrow one if the free width (left + right) is at most
-//! [`FormationParams::narrow_width`]. The ground ahead is *narrow* if two or more probes are
-//! narrow, else a *street* if two or more are in a street, else *open* if none is; with
-//! exactly one walled probe the previous reading stands. Looking ahead makes the squad
-//! close up before it enters a street; asking for two probes (and none to leave) ignores a
-//! single gap between houses or a lone house by the way. The program then maps narrow → file, street → column,
-//! open → wedge, once the last change is [`FormationParams::settle`] old; contact → line,
-//! at once.
+//! **Street or open ground.** Every second the leader probes the map
+//! ([`sense::SideClearance`]) at four points of its route ([`PROBES`]): where it stands and
+//! 5, 10 and 15 m ahead. At each it measures the free distance to the left and to the right,
+//! across the route, up to [`FormationParams::street_reach`]. A point with forbidden ground
+//! (a building and its buffer, or water) within that reach on **both** sides is in a street;
+//! in a narrow one if the free width (left + right) is at most
+//! [`FormationParams::narrow_width`]. The ground ahead ([`Ground`]) is *narrow* if two or
+//! more probes are narrow, else a *street* if two or more are in a street, else *open* if
+//! none is; with exactly one walled probe the previous reading stands. Looking ahead makes
+//! the squad close up before it enters a street; asking for two probes (and none to leave)
+//! ignores a single gap between houses or a lone house by the way. The program maps narrow
+//! → file, street → column, open → wedge, once the last change is
+//! [`FormationParams::settle`] old; contact → line, at once.
 //!
 //! **Contact.** A [`Radio::Contact`] report of a red body (from anyone), or a red trooper
 //! the leader or a member sees ([`sense::Hostiles`]: within
 //! [`FormationParams::sight_range`] and in line of sight). Members report what they see to
 //! the leader as `Radio::Contact`. Contact lasts [`FormationParams::contact_hold`] after the
-//! latest report; the line then faces the threat's bearing.
+//! latest report; the line faces the threat's bearing (briefed again when the bearing has
+//! turned 10°), and the leader walks at its slow pace.
 //!
 //! **Stragglers.** The leader measures each member's distance to its slot. Beyond
 //! [`FormationParams::lag_slow`] it slows down, beyond [`FormationParams::lag_wait`] it
 //! halts, but never for longer than [`FormationParams::straggler_timeout`] in a row: after
 //! that it walks on at its normal pace until the squad is in order again, so it cannot
-//! deadlock. A member whose body is gone is dropped from the squad at the next cycle.
+//! deadlock. At the goal it reports arrival once every member is within
+//! [`FormationParams::gather`] of its slot, or after the same timeout. A member whose body
+//! is gone is dropped from the squad at the next cycle (the others are briefed again).
 //!
 //! # Radio protocol
 //!
 //! | message | from → to | effect |
 //! |---|---|---|
-//! | `Radio::Order(Order::GoTo([x, y]))` | anyone → leader | walk to the walk-graph node nearest to world point (x, y) with the squad; then `Signal("arrived", "")` back to the sender |
-//! | `Radio::Order(Order::Hold)` | anyone → leader | stop where it stands (the squad keeps its slots); the pending `GoTo` is dropped |
+//! | `Radio::Order(Order::GoTo([x, y]))` | anyone → leader | walk to the walk-graph node nearest to world point (x, y) with the squad; then `Signal("arrived", "")` back to the sender. A new `GoTo` replaces the one under way (its sender is not told) |
+//! | `Radio::Order(Order::Hold)` | anyone → leader | stop where it stands (the squad keeps its slots); the `GoTo` under way is dropped |
 //! | `Radio::Signal("join", "7")` | anyone → leader | entity 7 joins the squad (last slot) |
-//! | `Radio::Signal("leave", "7")` | anyone → leader | entity 7 leaves the squad |
+//! | `Radio::Signal("leave", "7")` | anyone → leader | entity 7 leaves the squad (and is told `formation none`) |
 //! | `Radio::Signal("unreachable", "x y")` | leader → sender of a `GoTo` | no walk route there |
-//! | `Radio::Signal("formation", "wedge 2 5 -")` | leader → member | pattern, slot number, spacing in metres, and the facing in radians (`-`: the leader's heading) |
+//! | `Radio::Signal("formation", "wedge 2 5 -")` | leader → member | pattern, slot number, spacing in metres, and the facing in radians (`-`: along the leader's way); sent on every change and every 10 s |
 //! | `Radio::Signal("formation", "none")` | leader → member | dismissed: stand still until briefed again |
-//! | `Radio::Contact { .. }` | member (or anyone) → leader | contact |
+//! | `Radio::Contact { .. }` | member (or anyone) → leader | contact (if `seen_as` is red) |
 //!
 //! The id in `join` / `leave` is the decimal number inside the [`EntityId`]
 //! (`id.0.to_string()`, e.g. `"7"`); `EntityId`'s `Display` writes `"#7"`, which is accepted
-//! too.
+//! too. A member listens to briefings from its own leader only.
 //!
 //! # Levels
 //!
-//! At the **directed** level (x, y, heading) members steer to their slots with
-//! `MoveAndTurn`, at a speed that would reach the slot's predicted position within one
-//! period (capped at their walking speed × 1.25, or their running speed × when far), and the
-//! leader follows its walk route with `MoveAndTurn` at the route's Pandolf walking speed
-//! (scaled down to slow). At the **discrete** level (walk-graph nodes) there is no
-//! `MoveAndTurn`: the leader hops node by node with `WalkToNode` (it cannot slow down; it
-//! waits at each node for the stragglers, the timeout counted afresh at every node and
-//! lengthened by the time to walk the worst gap, since edges can take minutes), and
-//! each member hops to the node nearest its slot whenever it is at rest. The formation is
-//! then only as fine as the graph: slots snap to nodes (often the leader's own), members
-//! bunch on them and trail the leader by a hop, leapfrogging from node to node; the leader
-//! measures lag against the node nearest each slot.
+//! At the **directed** level (x, y, heading) the leader follows its walk route with
+//! `MoveAndTurn` at the route's Pandolf walking speed (halved to slow), and members steer to
+//! their slots with `MoveAndTurn` at the speed that reaches the slot's position one period
+//! ahead, capped at 1.25 × their walking speed, or at their running speed
+//! ([`FormationParams::run_factor`]) when far.
+//!
+//! At the **discrete** level (walk-graph nodes) there is no `MoveAndTurn`: the leader hops
+//! node by node with `WalkToNode` (it cannot slow down; it waits at each node for the
+//! stragglers, the timeout counted afresh at every node and lengthened by the time to walk
+//! the worst gap, since an edge can take minutes), and each member hops to the node nearest
+//! its slot whenever it is at rest. The formation is then only as fine as the graph: slots
+//! snap to nodes (often the leader's own), members bunch on them and trail the leader by a
+//! hop, leapfrogging from node to node, and the leader measures lag against the node
+//! nearest each slot. The squad still arrives gathered and still changes formation (the
+//! tests: about twice the time a trooper alone takes; slot errors of tens of metres, the
+//! node spacing).
 //!
 //! # Example
 //!

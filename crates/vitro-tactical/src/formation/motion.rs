@@ -180,6 +180,12 @@ impl Follow {
         Some((p2(pts[pick]), v))
     }
 
+    /// The next point to reach and the walking speed there.
+    pub fn next_point(&self) -> Option<(P2, f64)> {
+        let p = self.leg.pts.get(self.next)?;
+        Some((p2(*p), self.leg.v.get(self.next).copied().unwrap_or(0.0)))
+    }
+
     /// The next node to hop to (discrete level), past nodes already reached.
     pub fn next_hop(&self) -> Option<NodeId> {
         self.leg.nodes.get(self.next_node).map(|&(_, n)| n)
