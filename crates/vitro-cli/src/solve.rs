@@ -28,6 +28,19 @@ pub(crate) struct PatrolArgs {
     /// Optimises time-dependent policies (one transition matrix per schedule phase).
     #[arg(long)]
     time_dependent: bool,
+    /// Also searches phase-locked time-dependent policies (units that keep near the convoys
+    /// they guard, attacked only where they can be); implies --time-dependent.
+    #[arg(long)]
+    phase_locked: bool,
+    /// LP iterations per local search.
+    #[arg(long, default_value_t = SolveOptions::default().local_iterations)]
+    iterations: usize,
+    /// Random restarts of each team local search.
+    #[arg(long, default_value_t = SolveOptions::default().restarts)]
+    restarts: usize,
+    /// Seed of the random restarts.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
 }
 
 #[derive(Debug, Args)]
@@ -135,6 +148,8 @@ struct PatrolReport {
     lower_bound: f64,
     exact: bool,
     time_dependent: bool,
+    /// Whether phase-locked policies were searched.
+    phase_locked: bool,
     period: usize,
     /// Per patroller: per phase, per vertex, the next-vertex probabilities.
     policy: Vec<PolicyReport>,
@@ -146,7 +161,8 @@ struct PatrolReport {
 struct PolicyReport {
     patroller: String,
     support: Vec<usize>,
-    /// `phases[φ][i]`: the moves from `support[i]` at phase `φ` as `[next, probability]`.
+    /// `phases[φ][i]`: the moves from `support[i]` at phase `φ` as `[next, probability]`;
+    /// empty where a phase-locked unit is never at that vertex at that phase.
     phases: Vec<Vec<Vec<(usize, f64)>>>,
 }
 
@@ -189,7 +205,11 @@ fn patrol(args: &PatrolArgs) -> Result<(), Failure> {
     let instance = Instance::load(path).map_err(|e| patrol_failure(path, e))?;
     let period = instance.period().map_err(|e| patrol_failure(path, e))?;
     let options = SolveOptions {
-        time_dependent: args.time_dependent,
+        time_dependent: args.time_dependent || args.phase_locked,
+        phase_locked: args.phase_locked,
+        local_iterations: args.iterations,
+        restarts: args.restarts,
+        seed: args.seed,
         ..SolveOptions::default()
     };
     let started = Instant::now();
@@ -199,7 +219,8 @@ fn patrol(args: &PatrolArgs) -> Result<(), Failure> {
         capture_probability: solution.capture_probability,
         lower_bound: solution.lower_bound,
         exact: solution.exact,
-        time_dependent: args.time_dependent && period > 1,
+        time_dependent: options.time_dependent && period > 1,
+        phase_locked: args.phase_locked && period > 1,
         period,
         policy: instance
             .patrollers
@@ -225,10 +246,10 @@ fn patrol(args: &PatrolArgs) -> Result<(), Failure> {
             "not certified"
         },
         report.lower_bound,
-        if report.time_dependent {
-            "time-dependent"
-        } else {
-            "stationary"
+        match (report.phase_locked, report.time_dependent) {
+            (true, _) => "phase-locked time-dependent",
+            (false, true) => "time-dependent",
+            (false, false) => "stationary",
         },
         report.wall_time_s
     );
@@ -238,7 +259,12 @@ fn patrol(args: &PatrolArgs) -> Result<(), Failure> {
             if p.phases.len() > 1 {
                 println!("  phase {phase}:");
             }
-            for (v, row) in p.support.iter().zip(rows) {
+            for (v, row) in p
+                .support
+                .iter()
+                .zip(rows)
+                .filter(|(_, row)| !row.is_empty())
+            {
                 let moves: Vec<String> = row.iter().map(|(w, q)| format!("{w}: {q:.4}")).collect();
                 println!("    {v} -> {}", moves.join(", "));
             }

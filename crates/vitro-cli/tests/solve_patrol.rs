@@ -1,4 +1,5 @@
-//! `vitro solve patrol`: values, JSON shape, time-dependent policies, located input errors.
+//! `vitro solve patrol`: values, JSON shape, time-dependent and phase-locked policies, the
+//! village instance, located input errors.
 
 use std::process::Command;
 
@@ -65,6 +66,71 @@ fn time_dependent_policies_do_at_least_as_well_on_a_convoy() {
         stationary["policy"][0]["phases"].as_array().unwrap().len(),
         1
     );
+}
+
+/// Every row of every phase of every policy is a probability distribution, or empty (a
+/// phase-locked unit not there then); returns the number of non-empty rows.
+fn check_rows(report: &serde_json::Value) -> usize {
+    let mut rows = 0;
+    for policy in report["policy"].as_array().unwrap() {
+        for phase in policy["phases"].as_array().unwrap() {
+            for row in phase.as_array().unwrap() {
+                let moves = row.as_array().unwrap();
+                if moves.is_empty() {
+                    continue;
+                }
+                let sum: f64 = moves.iter().map(|m| m[1].as_f64().unwrap()).sum();
+                assert!((sum - 1.0).abs() < 1e-9, "{row}");
+                rows += 1;
+            }
+        }
+    }
+    rows
+}
+
+#[test]
+fn phase_locked_policies_do_at_least_as_well() {
+    let file = format!("{DATA}/convoy.toml");
+    let timed = json(&["solve", "patrol", &file, "--json", "--time-dependent"]);
+    let locked = json(&["solve", "patrol", &file, "--json", "--phase-locked"]);
+    assert_eq!(locked["phase_locked"], true);
+    assert_eq!(locked["time_dependent"], true);
+    let (t, l) = (
+        timed["value"].as_f64().unwrap(),
+        locked["value"].as_f64().unwrap(),
+    );
+    assert!(l <= t + 1e-9, "{l} vs {t}");
+    assert!(check_rows(&locked) > 0);
+    let text = vitro(&["solve", "patrol", &file, "--phase-locked"]);
+    let text = String::from_utf8(text.stdout).unwrap();
+    assert!(
+        text.contains("phase-locked time-dependent policy"),
+        "{text}"
+    );
+}
+
+#[test]
+fn the_village_loads_and_plans_two_units() {
+    // No LP iterations: the candidate tubes and their starting policies only (the full solve
+    // is the release example `patrol_village`).
+    let file = format!("{DATA}/village.toml");
+    let report = json(&[
+        "solve",
+        "patrol",
+        &file,
+        "--json",
+        "--phase-locked",
+        "--iterations",
+        "0",
+        "--restarts",
+        "0",
+    ]);
+    assert_eq!(report["period"], 48);
+    assert_eq!(report["policy"].as_array().unwrap().len(), 2);
+    let value = report["value"].as_f64().unwrap();
+    assert!((0.0..=1.0).contains(&value), "{value}");
+    assert!(check_rows(&report) > 48);
+    assert_eq!(report["stats"]["lp"]["solves"], 0);
 }
 
 #[test]

@@ -74,9 +74,10 @@
 //! (else any of them), best placed first, with a little slack; states that cannot go on or
 //! cannot reach a target in time are pruned (module `tube`). On the grid the team then catches
 //! every attack (value 0). Found by local search (below), phase-locked policies are never
-//! certified: [`Solution::lower_bound`] is 0 unless the full-phase search certifies a better
-//! one. Every returned phase-locked policy is restricted to one closed class of its states
-//! (where the patroller really ends up), so its value counts only starts the attacker can see.
+//! certified: [`Solution::lower_bound`] is 0 and `exact` false unless every attack is surely
+//! caught (a single patroller also gets the certified full-phase optimum as a candidate).
+//! Every returned policy is restricted to one closed class of its states (where the patroller
+//! really ends up), so its value counts only starts the attacker can see.
 //!
 //! # Several patrollers: local optimisation with restarts (the scalable method)
 //!
@@ -124,8 +125,10 @@ mod exact;
 mod instance;
 mod local;
 mod montecarlo;
+mod plan;
 mod policy;
 mod relax;
+pub mod sim;
 mod supports;
 mod team;
 mod tube;
@@ -134,9 +137,12 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
+use crate::graph::NodeId;
+
 pub use instance::{Instance, MAX_PERIOD, Patroller, Target, TargetPosition};
 pub use local::LpStats;
 pub use montecarlo::{AttackEstimate, MonteCarloOptions, MonteCarloReport, monte_carlo};
+pub use plan::{PatrolPlan, PlanParams};
 pub use policy::{Attack, Policy, Rows};
 pub use team::{Threat, team_value, threats};
 
@@ -175,6 +181,17 @@ pub enum PatrolError {
     /// The LP solver failed.
     #[error("LP solver: {0}")]
     Lp(String),
+    /// A plan was asked about a unit it does not have.
+    #[error("unit {unit} is not in the plan ({units} units)")]
+    NoSuchUnit {
+        /// The unit asked about.
+        unit: usize,
+        /// The plan's units.
+        units: usize,
+    },
+    /// A vertex outside the graph.
+    #[error("vertex {0} is not in the graph")]
+    NoSuchVertex(NodeId),
 }
 
 /// Settings for [`solve_with`].
@@ -297,6 +314,23 @@ pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solutio
                 ..options.clone()
             },
         )?;
+        // Where the full-phase patroller really ends up: one closed class of its states.
+        let policies = team::recurrent_team(instance, full.policies.clone())?;
+        let threats = team::threats(instance, &policies)?;
+        let value = threats.iter().map(|a| a.expected_loss).fold(0.0, f64::max);
+        // Certified over the full-phase class only: no bound over the phase-locked one.
+        let full = Solution {
+            value,
+            lower_bound: 0.0,
+            exact: value <= 0.0,
+            capture_probability: threats
+                .iter()
+                .map(|a| a.capture_probability)
+                .fold(1.0, f64::min),
+            policies,
+            threats,
+            ..full
+        };
         let mut locked = team::solve(instance, options, period, &targets, true)?;
         if locked.value < full.value - options.tolerance {
             locked.stats.nodes += full.stats.nodes;

@@ -462,6 +462,31 @@ impl Policy {
         classes
     }
 
+    /// This policy with every move of probability below `epsilon` dropped (rows renormalised;
+    /// a row keeps at least its likeliest move): LP solutions leave moves of 10⁻¹⁶ that no
+    /// patroller ever takes but that would keep unvisited states in a recurrent class.
+    pub(crate) fn without_tiny_moves(&self, epsilon: f64) -> Policy {
+        let moves = self
+            .moves
+            .iter()
+            .map(|row| {
+                let top = row.iter().map(|m| m.1).fold(0.0, f64::max);
+                let kept: Vec<(NodeId, f64)> = row
+                    .iter()
+                    .copied()
+                    .filter(|&(_, p)| p >= epsilon || p == top)
+                    .collect();
+                let sum: f64 = kept.iter().map(|m| m.1).sum();
+                kept.into_iter().map(|(w, p)| (w, p / sum)).collect()
+            })
+            .collect();
+        Policy {
+            support: self.support.clone(),
+            phases: self.phases,
+            moves,
+        }
+    }
+
     /// This policy restricted to a closed set of its states `(phase, vertex)` (as given by
     /// [`Policy::recurrent_states`]): a phase-locked policy on those states only.
     pub(crate) fn restricted_to_states(&self, states: &[(usize, NodeId)]) -> Policy {

@@ -19,7 +19,7 @@ use serde::Serialize;
 
 use super::chain::{Chain, Track};
 use super::local;
-use super::tube::{self, Reach};
+use super::tube::{self, Reach, Shape};
 use super::{Instance, PatrolError, Policy, Solution, SolveOptions, SolveStats};
 use crate::graph::{Graph, NodeId};
 
@@ -194,8 +194,14 @@ fn guarded(k: usize, owner: &[usize]) -> Vec<Vec<usize>> {
         .collect()
 }
 
-/// Extra slack tried beyond the tightest feasible tube (see [`super::tube`]).
-const TUBE_EXTRA_SLACK: [i64; 2] = [0, 1];
+/// The tubes tried for every assignment (see [`super::tube`]): each shape with extra slack
+/// beyond its tightest feasible tube. (On the village and grid instances of the examples the
+/// tightest tubes of either shape won; wider ones, up to every state within reach, only cost
+/// time.)
+const TUBES: [(Shape, &[i64]); 2] = [(Shape::Near, &[0, 1]), (Shape::Intercept, &[0])];
+
+/// A loss this small is a perfect patrol (up to rounding): nothing left to search.
+const PERFECT: f64 = 1e-12;
 
 /// Mass a tube's pursuit starting policy spreads evenly over every move.
 const PURSUIT_SPREAD: f64 = 0.25;
@@ -253,49 +259,71 @@ fn candidates(
     let n = graph.node_count();
     // Slack enough to take every state within reach.
     let loosest = targets.iter().map(|t| t.1 as i64).max().unwrap_or(1) + n as i64;
-    for (family, owner) in owners.iter().enumerate() {
-        // Each patroller's tightest tube keeping all its targets in reach, else any of them.
-        let plans: Vec<(Reach, Vec<i64>, i64)> = guarded(k, owner)
-            .iter()
-            .map(|mine| {
-                let plan = |reach: Reach| {
-                    let late = tube::placement(graph, targets, &distance, mine, period, reach);
-                    let feasible = (0..=loosest).find(|&slack| {
-                        tube::tube(graph, targets, &late, mine, period, slack, reach).is_some()
-                    });
-                    feasible.map(|slack| (reach, late, slack))
-                };
-                plan(Reach::All).or_else(|| plan(Reach::Any)).unwrap_or((
-                    Reach::Any,
-                    Vec::new(),
-                    -1,
-                ))
-            })
-            .collect();
+    let mut family = 0;
+    for owner in &owners {
         let guards = guarded(k, owner);
-        for extra in TUBE_EXTRA_SLACK {
-            let team: Option<Vec<(Chain, Vec<f64>)>> = guards
+        for (shape, extras) in TUBES {
+            // Each patroller's tightest tube keeping all its targets in reach, else any.
+            let plans: Vec<Option<(Reach, Vec<i64>, i64)>> = guards
                 .iter()
-                .zip(&plans)
-                .map(|(mine, (reach, late, slack))| {
-                    if *slack < 0 {
-                        return None;
-                    }
-                    let chain =
-                        tube::tube(graph, targets, late, mine, period, slack + extra, *reach)?;
-                    let start =
-                        tube::pursuit_start(&chain, targets, &distance, mine, PURSUIT_SPREAD);
-                    Some((chain, start))
+                .map(|mine| {
+                    let plan = |reach: Reach| {
+                        let rank =
+                            tube::placement(graph, targets, &distance, mine, period, reach, shape);
+                        // Tubes grow with the slack: bisect for the least feasible one.
+                        let fits = |slack: i64| {
+                            tube::tube(graph, targets, &rank, mine, period, slack, reach, shape)
+                                .is_some()
+                        };
+                        if !fits(loosest) {
+                            return None;
+                        }
+                        let (mut lo, mut hi) = (-1, loosest);
+                        while hi - lo > 1 {
+                            let mid = lo + (hi - lo) / 2;
+                            if fits(mid) {
+                                hi = mid;
+                            } else {
+                                lo = mid;
+                            }
+                        }
+                        Some((reach, rank, hi))
+                    };
+                    plan(Reach::All).or_else(|| plan(Reach::Any))
                 })
                 .collect();
-            if let Some(team) = team {
-                let (chains, starts) = team.into_iter().unzip();
+            let mut sizes: Option<Vec<usize>> = None;
+            for &extra in extras {
+                let team: Option<Vec<(Chain, Vec<f64>)>> = guards
+                    .iter()
+                    .zip(&plans)
+                    .map(|(mine, plan)| {
+                        let (reach, rank, slack) = plan.as_ref()?;
+                        let slack = slack.saturating_add(extra).min(loosest);
+                        let chain =
+                            tube::tube(graph, targets, rank, mine, period, slack, *reach, shape)?;
+                        let start =
+                            tube::pursuit_start(&chain, targets, &distance, mine, PURSUIT_SPREAD);
+                        Some((chain, start))
+                    })
+                    .collect();
+                let Some(team) = team else {
+                    continue;
+                };
+                let (chains, starts): (Vec<Chain>, _) = team.into_iter().unzip();
+                // No wider than the last one: nothing new to search.
+                let now: Vec<usize> = chains.iter().map(Chain::active_states).collect();
+                if sizes.as_ref() == Some(&now) {
+                    continue;
+                }
+                sizes = Some(now);
                 teams.push(Candidate {
                     chains,
                     starts: Some(starts),
                     family,
                 });
             }
+            family += 1;
         }
     }
     teams
@@ -344,29 +372,42 @@ pub(crate) fn solve(
         supports: candidates.len(),
         ..SolveStats::default()
     };
+    // The most promising first: candidates that surely miss no attack (stable order).
+    let mut candidates: Vec<(f64, Candidate)> = candidates
+        .into_iter()
+        .filter(|c| c.chains.iter().all(|c| c.len() > 0))
+        .map(|c| (certain_loss(&c.chains), c))
+        .collect();
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     let mut best: Option<(Vec<Chain>, Vec<Vec<f64>>, f64)> = None;
-    // The best policies of the last candidate searched, and its family.
-    let mut previous: Option<(usize, Vec<Chain>, Vec<Vec<f64>>)> = None;
-    for Candidate {
-        chains,
-        starts,
-        family,
-    } in candidates
+    // A team's chains and policies' entries.
+    type Team = (Vec<Chain>, Vec<Vec<f64>>);
+    // Per family, the best policies of the last candidate searched.
+    let families = candidates.iter().map(|c| c.1.family + 1).max().unwrap_or(0);
+    let mut previous: Vec<Option<Team>> = vec![None; families];
+    for (
+        floor,
+        Candidate {
+            chains,
+            starts,
+            family,
+        },
+    ) in candidates
     {
-        if chains.iter().any(|c| c.len() == 0) {
-            continue;
-        }
-        // Skip teams that cannot beat the best found (or tie a sure loss).
-        let floor = certain_loss(&chains);
-        if best.as_ref().is_some_and(|b| floor >= b.2) {
+        // Skip teams that cannot beat the best found (or tie a sure loss); stop at a perfect
+        // patrol.
+        if best
+            .as_ref()
+            .is_some_and(|b| floor >= b.2 || b.2 <= PERFECT)
+        {
             continue;
         }
         stats.supports_searched += 1;
         let refs: Vec<&Chain> = chains.iter().collect();
         // A wider tube of the same family starts from the tighter one's policies.
-        let lifted: Option<Vec<Vec<f64>>> = match (&previous, &starts) {
-            (Some((f, narrow, alphas)), Some(fallback)) if *f == family => Some(
+        let lifted: Option<Vec<Vec<f64>>> = match (&previous[family], &starts) {
+            (Some((narrow, alphas)), Some(fallback)) => Some(
                 (0..chains.len())
                     .map(|i| {
                         tube::lift(
@@ -381,22 +422,26 @@ pub(crate) fn solve(
             ),
             _ => None,
         };
-        let first = lifted.iter().chain(&starts).cloned();
+        // Starts: the lifted policies, the pursuit ones, uniform, then in turn random ones and
+        // the best so far shaken (half of every row redrawn at random).
+        let uniform: Vec<Vec<f64>> = chains.iter().map(local::uniform).collect();
+        let mut planned = lifted
+            .into_iter()
+            .chain(starts)
+            .chain(std::iter::once(uniform));
         let mut family_best: Option<(Vec<Vec<f64>>, f64)> = None;
-        let mut planned = first.collect::<Vec<_>>().into_iter();
         for restart in 0..=options.restarts {
-            let start: Vec<Vec<f64>> = match planned.next() {
-                Some(start) => start,
-                None => chains
+            let start: Vec<Vec<f64>> = match (planned.next(), &family_best) {
+                (Some(start), _) => start,
+                (None, Some((best, _))) if restart % 2 == 0 => chains
                     .iter()
-                    .map(|c| {
-                        if restart == 0 {
-                            local::uniform(c)
-                        } else {
-                            local::random(c, &mut rng)
-                        }
+                    .zip(best)
+                    .map(|(c, b)| {
+                        let noise = local::random(c, &mut rng);
+                        b.iter().zip(noise).map(|(x, y)| 0.5 * (x + y)).collect()
                     })
                     .collect(),
+                (None, _) => chains.iter().map(|c| local::random(c, &mut rng)).collect(),
             };
             let (alphas, loss) =
                 local::improve_team(&refs, start, options.local_iterations, &mut stats.lp);
@@ -407,9 +452,12 @@ pub(crate) fn solve(
             if best.as_ref().is_none_or(|b| loss < b.2) {
                 best = Some((chains.clone(), alphas, loss));
             }
+            if loss <= PERFECT {
+                break;
+            }
         }
         if let Some((alphas, _)) = family_best {
-            previous = Some((family, chains, alphas));
+            previous[family] = Some((chains, alphas));
         }
     }
     let Some((chains, alphas, _)) = best else {
@@ -444,6 +492,9 @@ pub(crate) fn solve(
     })
 }
 
+/// Moves less likely than this are dropped before restricting a policy to a recurrent class.
+const TINY_MOVE: f64 = 1e-9;
+
 /// Most combinations of recurrent classes compared when restricting a team.
 const MAX_CLASS_COMBINATIONS: usize = 64;
 
@@ -461,6 +512,7 @@ pub(crate) fn recurrent_team(
             if p.phases() == 1 {
                 return vec![p.clone()];
             }
+            let p = &p.without_tiny_moves(TINY_MOVE);
             let classes = p.recurrent_states();
             if classes.is_empty() {
                 vec![p.clone()]

@@ -25,6 +25,17 @@ use super::chain::{Chain, Track};
 use super::local;
 use crate::graph::{Graph, NodeId};
 
+/// How states are ranked for a tube.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Shape {
+    /// By distance to the targets' current positions, relative to the best placed state of
+    /// each phase.
+    Near,
+    /// By intercept time (the first step at which the targets could be caught), against one
+    /// limit for every phase.
+    Intercept,
+}
+
 /// Which of its targets a patroller keeps within reach.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Reach {
@@ -49,9 +60,9 @@ pub(crate) fn target_distances(graph: &Graph, targets: &[Track]) -> Vec<Option<V
     table
 }
 
-/// How a patroller guarding some targets is placed at every state `φ · n + v`: the state's
-/// distance to them (see the module docs), `i64::MAX` where it does not keep them within
-/// reach.
+/// How a patroller guarding some targets is placed at every state `φ · n + v` (see the module
+/// docs): its distance to them ([`Shape::Near`]) or its intercept time
+/// ([`Shape::Intercept`]), `i64::MAX` where it does not keep them within reach.
 pub(crate) fn placement(
     graph: &Graph,
     targets: &[Track],
@@ -59,6 +70,7 @@ pub(crate) fn placement(
     assigned: &[usize],
     period: usize,
     reach: Reach,
+    shape: Shape,
 ) -> Vec<i64> {
     let n = graph.node_count();
     let far = |t: usize, phase: usize, v: NodeId| -> usize {
@@ -66,22 +78,28 @@ pub(crate) fn placement(
             .as_ref()
             .map_or(usize::MAX, |d| d[v])
     };
-    let in_reach =
-        |t: usize, phase: usize, v: NodeId| (1..=targets[t].1).any(|s| far(t, phase + s, v) <= s);
+    // The first step at which `t` could be caught from `(v, phase)`.
+    let intercept =
+        |t: usize, phase: usize, v: NodeId| (1..=targets[t].1).find(|&s| far(t, phase + s, v) <= s);
+    let score = |t: usize, phase: usize, v: NodeId| match shape {
+        Shape::Near => far(t, phase, v),
+        Shape::Intercept => intercept(t, phase, v).unwrap_or(usize::MAX),
+    };
     (0..period * n)
         .map(|state| {
             let (phase, v) = (state / n, state % n);
+            let in_reach = |&t: &usize| intercept(t, phase, v).is_some();
             let (ok, d) = match reach {
                 Reach::All => (
-                    assigned.iter().all(|&t| in_reach(t, phase, v)),
-                    assigned.iter().map(|&t| far(t, phase, v)).max(),
+                    assigned.iter().all(in_reach),
+                    assigned.iter().map(|&t| score(t, phase, v)).max(),
                 ),
                 Reach::Any => (
-                    assigned.iter().any(|&t| in_reach(t, phase, v)),
+                    assigned.iter().any(in_reach),
                     assigned
                         .iter()
-                        .filter(|&&t| in_reach(t, phase, v))
-                        .map(|&t| far(t, phase, v))
+                        .filter(|t| in_reach(t))
+                        .map(|&t| score(t, phase, v))
                         .min(),
                 ),
             };
@@ -94,7 +112,9 @@ pub(crate) fn placement(
 }
 
 /// The phase-locked chain of a patroller placed as given (by [`placement`] for `assigned`
-/// and `reach`), with slack `slack`; `None` if no state remains.
+/// and `reach`), with the states ranked at most `slack` above the best of their phase
+/// ([`Shape::Near`]) or at most `slack` ([`Shape::Intercept`]); `None` if no state remains.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn tube(
     graph: &Graph,
     targets: &[Track],
@@ -103,12 +123,16 @@ pub(crate) fn tube(
     period: usize,
     slack: i64,
     reach: Reach,
+    shape: Shape,
 ) -> Option<Chain> {
     let n = graph.node_count();
     let mut admissible = vec![false; n * period];
     for phase in 0..period {
         let row = &placement[phase * n..(phase + 1) * n];
-        let best = row.iter().copied().min().unwrap_or(i64::MAX);
+        let best = match shape {
+            Shape::Near => row.iter().copied().min().unwrap_or(i64::MAX),
+            Shape::Intercept => 0,
+        };
         let limit = best.saturating_add(slack);
         for v in 0..n {
             admissible[phase * n + v] = row[v] != i64::MAX && row[v] <= limit;
@@ -151,9 +175,10 @@ pub(crate) fn tube(
     }
 }
 
-/// A starting policy on a tube: from every state, the patroller pursues one of its targets,
-/// each with equal probability, stepping to the successors nearest that target's next
-/// position; a share `spread` of the mass is spread evenly over every move.
+/// A starting policy on a tube: from every state, the patroller follows its nearest target
+/// (ties share evenly), stepping to the successors nearest that target's next position; a
+/// share `spread` of the mass is spread evenly over every move. Where two targets part, the
+/// patroller picks one at random and keeps to it.
 pub(crate) fn pursuit_start(
     chain: &Chain,
     targets: &[Track],
@@ -163,14 +188,27 @@ pub(crate) fn pursuit_start(
 ) -> Vec<f64> {
     let n = chain.len();
     let mut alpha = vec![0.0; chain.entries()];
-    let share = (1.0 - spread) / assigned.len().max(1) as f64;
     for r in 0..chain.rows() {
         let row = chain.row(r);
-        let next_phase = (chain.row_state(r) / n + 1) % chain.period;
+        let (phase, x) = (chain.row_state(r) / n, chain.row_state(r) % n);
+        let next_phase = (phase + 1) % chain.period;
         for e in row.clone() {
             alpha[e] = spread / row.len() as f64;
         }
-        for &t in assigned {
+        // Follow the nearest targets (ties share).
+        let gap = |t: usize| {
+            distance[targets[t].0[phase]]
+                .as_ref()
+                .map_or(usize::MAX, |d| d[chain.nodes[x]])
+        };
+        let closest = assigned.iter().map(|&t| gap(t)).min().unwrap_or(usize::MAX);
+        let followed: Vec<usize> = assigned
+            .iter()
+            .copied()
+            .filter(|&t| gap(t) == closest)
+            .collect();
+        let share = (1.0 - spread) / followed.len().max(1) as f64;
+        for &t in &followed {
             let Some(d) = distance[targets[t].0[next_phase]].as_ref() else {
                 continue;
             };
@@ -246,8 +284,17 @@ mod tests {
         reach: Reach,
     ) -> Option<Chain> {
         let distance = target_distances(g, targets);
-        let late = placement(g, targets, &distance, assigned, period, reach);
-        tube(g, targets, &late, assigned, period, slack, reach)
+        let late = placement(g, targets, &distance, assigned, period, reach, Shape::Near);
+        tube(
+            g,
+            targets,
+            &late,
+            assigned,
+            period,
+            slack,
+            reach,
+            Shape::Near,
+        )
     }
 
     #[test]
@@ -300,8 +347,8 @@ mod tests {
         let g = graph::path(5).unwrap();
         let targets = vec![(vec![0], 4, 1.0), (vec![4], 4, 1.0)];
         let distance = target_distances(&g, &targets);
-        let late = placement(&g, &targets, &distance, &[0, 1], 1, Reach::All);
-        let chain = tube(&g, &targets, &late, &[0, 1], 1, 2, Reach::All).unwrap();
+        let late = placement(&g, &targets, &distance, &[0, 1], 1, Reach::All, Shape::Near);
+        let chain = tube(&g, &targets, &late, &[0, 1], 1, 2, Reach::All, Shape::Near).unwrap();
         let alpha = pursuit_start(&chain, &targets, &distance, &[0, 1], 0.0);
         for r in 0..chain.rows() {
             let sum: f64 = chain.row(r).map(|e| alpha[e]).sum();
@@ -321,9 +368,9 @@ mod tests {
         let schedule: Vec<NodeId> = vec![0, 1, 2, 3, 4, 5, 4, 3, 2, 1];
         let targets = vec![(schedule, 3, 1.0)];
         let distance = target_distances(&g, &targets);
-        let late = placement(&g, &targets, &distance, &[0], 10, Reach::All);
-        let tight = tube(&g, &targets, &late, &[0], 10, 1, Reach::All).unwrap();
-        let wide = tube(&g, &targets, &late, &[0], 10, 2, Reach::All).unwrap();
+        let late = placement(&g, &targets, &distance, &[0], 10, Reach::All, Shape::Near);
+        let tight = tube(&g, &targets, &late, &[0], 10, 1, Reach::All, Shape::Near).unwrap();
+        let wide = tube(&g, &targets, &late, &[0], 10, 2, Reach::All, Shape::Near).unwrap();
         let alpha = pursuit_start(&tight, &targets, &distance, &[0], 0.1);
         let fallback = local::uniform(&wide);
         let lifted = lift(&tight, &alpha, &wide, &fallback, 0.0);
