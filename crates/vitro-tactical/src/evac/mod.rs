@@ -9,7 +9,7 @@
 //! the UGV watch the team and the route and report contacts.
 //!
 //! Every agent acts only through sensors ([`sense`]), actuators ([`act`]) and the radio
-//! ([`Radio`](crate::radio::Radio)); what each knows beforehand is the [`brief`]. The
+//! ([`Radio`]); what each knows beforehand is the [`brief`]. The
 //! [`referee`] measures the mission from outside; [`view`] turns the state into
 //! [`vitro_record`] scenes and frames for recordings and the viewer.
 //!
