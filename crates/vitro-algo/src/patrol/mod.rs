@@ -70,29 +70,48 @@
 //! [`SolveOptions::phase_locked`] fixes it: time-dependent policies on *phase-locked* supports,
 //! a set of product states `(vertex, phase)` closed under the moves, attacked only from those
 //! states (see [`Policy`]). The supports searched are *tubes* around the targets each patroller
-//! guards: at every phase, the states that keep all its targets within reach of an attack
-//! (else any of them), best placed first, with a little slack; states that cannot go on or
-//! cannot reach a target in time are pruned (module `tube`). On the grid the team then catches
-//! every attack (value 0). Found by local search (below), phase-locked policies are never
-//! certified: [`Solution::lower_bound`] is 0 and `exact` false unless every attack is surely
-//! caught (a single patroller also gets the certified full-phase optimum as a candidate).
-//! Every returned policy is restricted to one closed class of its states (where the patroller
-//! really ends up), so its value counts only starts the attacker can see.
+//! guards (module `tube`): at every phase, the states that keep all its targets within reach
+//! of an attack (else any of them), ranked by distance to the targets (best placed first, with
+//! a little slack) or by intercept time; states that cannot go on or cannot reach a target in
+//! time are pruned. On the grid the team then catches every attack (value 0); on the village
+//! instance (`data/patrol/village.toml`, example `patrol_village`) the least capture
+//! probability rises from 0.24 (full-phase time-dependent team; 0.01 stationary) to 0.5.
+//! (The phase-locked search runs on tubes only; run both to compare.) Found by local search
+//! (below), phase-locked policies are never certified: [`Solution::lower_bound`] is 0 and
+//! `exact` false unless every attack is surely caught (a single patroller also gets the
+//! certified full-phase optimum as a candidate). Every returned policy is restricted to one
+//! closed class of its states (where the patroller really ends up; moves of probability below
+//! 10⁻⁹ left by the LP are dropped first), so its value counts only starts the attacker can
+//! actually see.
 //!
 //! # Several patrollers: local optimisation with restarts (the scalable method)
 //!
 //! Independent policies, one per patroller; the attacker sees all of them, so the escape
 //! probability of a joint start is the product of the patrollers' ones (module `team`).
-//! They are found by the same successive LP (product linearised too) with restarts: over
-//! target-to-patroller assignments (while there are at most 64 of them), over supports (the
-//! connected cover of each patroller's targets, or with [`SolveOptions::phase_locked`] the
-//! tightest tube and one with more slack, the wider one started from the tighter one's
-//! optimum), and over starting policies (pursuit of the guarded targets on tubes, uniform,
-//! then [`SolveOptions::restarts`] random ones). Candidates whose supports surely miss some
-//! attack for every patroller are skipped once something better is known. On large
-//! instances each LP keeps an active set of the worst attack starts (steps are accepted only
-//! when the exact value improves). It is anytime and returns a local optimum, never
-//! certified (`exact` is false unless every attack is surely caught).
+//! They are found by the same successive LP (product linearised too) with restarts:
+//! - over target-to-patroller assignments (while there are at most 64 of them; idle patrollers
+//!   guard everything);
+//! - over supports: the connected cover of each patroller's targets (full-phase), or with
+//!   [`SolveOptions::phase_locked`] tubes: the tightest by distance and one with one more step
+//!   of slack (started from the tighter one's optimum), and the tightest by intercept time;
+//! - over starting policies: on tubes, following the nearest guarded target (picking one at
+//!   random where targets part), then uniform, then in turn [`SolveOptions::restarts`] random
+//!   ones and the best so far shaken.
+//!
+//! Candidates are searched in order of a certified floor (an attack every patroller surely
+//! misses), and skipped once the best found beats it; the search stops at a perfect patrol.
+//! LPs drop attack starts no move can affect (constant rows become bounds) and, on large
+//! instances, keep an active set of the worst few starts per target and phase (steps are
+//! accepted only when the exact value improves). It is anytime and returns a local optimum,
+//! never certified (`exact` is false unless every attack is surely caught).
+//!
+//! # Using and checking a plan
+//!
+//! [`PatrolPlan`] is the plain-data face for a mission: solve once, then ask each unit's next
+//! vertex step by step ([`PatrolPlan::next_vertex`]). [`sim`] plays a plan in the simulator
+//! (`vitro` agents: units sampling their policies, convoys on their timetables, an attacker
+//! striking at its computed best replies) and estimates the capture probabilities with 99%
+//! intervals; [`monte_carlo`] does the same for one policy without the simulator.
 //!
 //! Policies with memory (history-dependent patrols) and coordinated teams (joint moves) can
 //! beat these; they are outside the optimised classes.
