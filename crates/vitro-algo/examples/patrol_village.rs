@@ -11,12 +11,13 @@
 //! probability against the attacker's best reply, with its 99% interval.
 //!
 //! Measured with the defaults (60 LP iterations, 2 restarts, 20 000 attacks per convoy; one
-//! busy-free core of the shared 2-core machine): solve 120 s, 471 LPs in 9 local searches on
-//! 3 of 15 candidate teams, the largest LP 6 980 variables x 3 186 constraints; value 0.500011,
-//! capture probability 0.499989 (one unit rides with the north-east convoy, the other guards
-//! the west and south ones, which it cannot both keep covered); simulated 0.5000 with 99%
-//! interval [0.4874, 0.5126] against the best reply (800 761 steps, 4.8 M events, 0.5 s). The
-//! full-phase team search reaches 0.24 (time-dependent) and 0.01 (stationary).
+//! core of the shared 2-core machine, otherwise quiet): solve 120 s, 471 LPs in 9 local
+//! searches on 3 of 15 candidate teams, the largest LP 6 980 variables x 3 186 constraints;
+//! value 0.500011, capture probability 0.499989 (one unit rides with the north-east convoy,
+//! the other guards the west and south ones, which it cannot both keep covered); simulated
+//! 0.5000 with 99% interval [0.4874, 0.5126] against the best reply (800 761 steps, 4.8 M
+//! events, 0.5 s). The full-phase team search reaches 0.24 (time-dependent) and 0.01
+//! (stationary).
 
 use std::time::Instant;
 

@@ -173,7 +173,8 @@ impl PatrolPlan {
     /// them is fine).
     ///
     /// # Errors
-    /// [`PatrolError::NoSuchUnit`].
+    /// [`PatrolError::NoSuchUnit`]; [`PatrolError::InvalidPolicy`] for a policy with no vertex
+    /// at that phase (never for a solved plan).
     pub fn start_vertex<R: Rng + ?Sized>(
         &self,
         unit: usize,
@@ -181,11 +182,12 @@ impl PatrolPlan {
         rng: &mut R,
     ) -> Result<NodeId, PatrolError> {
         let at = self.vertices_at(unit, phase)?;
-        let i = rng.random_range(0..at.len().max(1));
-        at.get(i).copied().ok_or(PatrolError::NoSuchUnit {
-            unit,
-            units: self.policies.len(),
-        })
+        if at.is_empty() {
+            return Err(PatrolError::InvalidPolicy(format!(
+                "unit {unit} has no vertex at phase {phase}"
+            )));
+        }
+        Ok(at[rng.random_range(0..at.len())])
     }
 
     /// Where `unit`, at `current` at `phase`, goes next: drawn from its policy with one
