@@ -190,8 +190,7 @@ impl Arena {
 
     /// World position of a street node on the ground.
     pub fn node_point(&self, mode: Mode, node: NodeId) -> Option<[f64; 3]> {
-        let p = self.site.map.streets(mode).pos(node)?;
-        Some(self.site.on_ground(p))
+        self.site.street_point(mode, node)
     }
 
     /// Places a ground vehicle of `kind` at street node `node` at `level` (discrete,

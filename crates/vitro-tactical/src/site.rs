@@ -16,6 +16,7 @@ use crate::los::{Deck, LosError, LosScene, Prism};
 use crate::map::{ForbiddenZones, Mode, TownMap, ZoneConfig};
 use crate::terrain::Terrain;
 use serde::{Deserialize, Serialize};
+use vitro::env::NodeId;
 
 /// How the town is set on the terrain.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -85,6 +86,9 @@ pub struct Site {
     /// Line of sight against ground, buildings and bridges.
     pub los: LosScene,
     zone_config: ZoneConfig,
+    /// World points on the ground of every street node, drive then walk graph (cached:
+    /// poses of entities at nodes are read on every look).
+    street_points: [Vec<[f64; 3]>; 2],
 }
 
 impl Site {
@@ -162,6 +166,18 @@ impl Site {
             .collect();
         let los = LosScene::new(&terrain, &prisms, &decks)?;
         let zones = ForbiddenZones::new(&map, &config.zones);
+        let points = |g: &crate::map::StreetGraph| -> Vec<[f64; 3]> {
+            (0..g.graph.node_count() as u32)
+                .map(|n| {
+                    let p = g.pos(NodeId(n)).map_or([0.0, 0.0], shift);
+                    [p[0], p[1], ground_at(p)]
+                })
+                .collect()
+        };
+        let street_points = [
+            points(map.streets(Mode::Drive)),
+            points(map.streets(Mode::Walk)),
+        ];
         Ok(Site {
             map,
             terrain,
@@ -171,12 +187,22 @@ impl Site {
             zones,
             los,
             zone_config: config.zones,
+            street_points,
         })
     }
 
     /// The buffers the forbidden zones were built with.
     pub fn zones_config(&self) -> ZoneConfig {
         self.zone_config
+    }
+    /// The world point on the ground of node `n` of `mode`'s street graph
+    /// ([`Site::on_ground`] of its position, precomputed); `None` for an unknown node.
+    pub fn street_point(&self, mode: Mode, n: NodeId) -> Option<[f64; 3]> {
+        let i = match mode {
+            Mode::Drive => 0,
+            Mode::Walk => 1,
+        };
+        self.street_points[i].get(n.0 as usize).copied()
     }
     /// Town coordinates to world (x, y).
     pub fn to_world(&self, town: P2) -> P2 {

@@ -87,6 +87,20 @@ impl Belief {
         last
     }
 
+    /// A sampler of the distribution as it stands: draws in `O(log size)` instead of
+    /// [`Belief::sample`]'s linear scan, for searches that sample many times per decision.
+    pub fn sampler(&self) -> Sampler {
+        let mut verts = Vec::with_capacity(self.size);
+        let mut cumulative = Vec::with_capacity(self.size);
+        let mut total = 0.0;
+        for v in self.members() {
+            total += self.prob[v];
+            verts.push(v);
+            cumulative.push(total);
+        }
+        Sampler { verts, cumulative }
+    }
+
     /// The piece moved one step or stayed: every member spreads to its closed neighbourhood,
     /// its probability shared equally (a random-walk model).
     pub fn predict(&mut self, arena: &Arena) {
@@ -150,5 +164,35 @@ impl Belief {
                 self.prob[v] = if self.member[v] { p } else { 0.0 };
             }
         }
+    }
+}
+
+/// Draws vertices from a [`Belief`] frozen at [`Belief::sampler`] time.
+///
+/// ```
+/// use rand::SeedableRng;
+/// use vitro_algo::pursuit::Belief;
+///
+/// let b = Belief::uniform(4);
+/// let s = b.sampler();
+/// let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+/// assert!(s.sample(&mut rng).is_some_and(|v| v < 4));
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Sampler {
+    verts: Vec<NodeId>,
+    /// Running sums of the members' probabilities, in vertex order.
+    cumulative: Vec<f64>,
+}
+
+impl Sampler {
+    /// A vertex drawn from the distribution (one uniform draw, like [`Belief::sample`], and
+    /// the same vertex up to rounding); `None` if the set is empty.
+    pub fn sample(&self, rng: &mut impl Rng) -> Option<NodeId> {
+        let x = rng.random::<f64>();
+        let i = self.cumulative.partition_point(|&c| c <= x);
+        self.verts
+            .get(i.min(self.verts.len().saturating_sub(1)))
+            .copied()
     }
 }

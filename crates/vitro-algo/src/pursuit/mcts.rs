@@ -18,9 +18,11 @@
 
 use super::episode::caught;
 use super::sim::{chase_step, closeness, flee_step, random_step};
-use super::{Arena, Budget, EvaderStrategy, EvaderView, PursuerStrategy, PursuerView};
+use super::{
+    Arena, Belief, Budget, EvaderStrategy, EvaderView, PursuerStrategy, PursuerView, Sampler,
+};
 use crate::graph::NodeId;
-use rand::Rng;
+use rand::{Rng, RngCore};
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
 
@@ -107,6 +109,13 @@ struct Search<'a> {
     /// Own pieces: the pursuer count, or 1.
     movers: usize,
     scale: f64,
+    /// `epsilon` scaled to 2^32.
+    noise: u64,
+    /// Scratch buffers reused by every iteration: the tree path, the own moves chosen so
+    /// far this turn, and the other side's moves.
+    path: Vec<u32>,
+    pending: Vec<NodeId>,
+    next: Vec<NodeId>,
 }
 
 impl Search<'_> {
@@ -117,21 +126,22 @@ impl Search<'_> {
         }
     }
 
+    /// True with probability `epsilon` (one 32-bit draw: this runs for every piece at
+    /// every simulated turn).
     fn noisy(&self, rng: &mut ChaCha8Rng) -> bool {
-        rng.random::<f64>() < self.cfg.epsilon
+        u64::from(rng.next_u32()) < self.noise
     }
 
-    fn pursuer_policy(&self, s: &State, rng: &mut ChaCha8Rng) -> Vec<NodeId> {
-        s.pursuers
-            .iter()
-            .map(|&p| {
-                if self.noisy(rng) {
-                    random_step(self.arena, p, rng)
-                } else {
-                    chase_step(self.arena, p, s.evader, rng)
-                }
-            })
-            .collect()
+    /// The pursuers' default moves from `s`, written to `out`.
+    fn pursuer_policy(&self, s: &State, rng: &mut ChaCha8Rng, out: &mut Vec<NodeId>) {
+        out.clear();
+        for &p in &s.pursuers {
+            out.push(if self.noisy(rng) {
+                random_step(self.arena, p, rng)
+            } else {
+                chase_step(self.arena, p, s.evader, rng)
+            });
+        }
     }
 
     fn evader_policy(&self, s: &State, rng: &mut ChaCha8Rng) -> NodeId {
@@ -142,10 +152,11 @@ impl Search<'_> {
         }
     }
 
-    /// Applies a full turn; true on capture.
-    fn apply(&self, s: &mut State, pursuers: Vec<NodeId>, evader: NodeId) -> bool {
-        let hit = caught(&s.pursuers, &pursuers, s.evader, evader);
-        s.pursuers = pursuers;
+    /// Applies a full turn (the pursuers' moves are taken from `pursuers`, which is left
+    /// holding the old positions); true on capture.
+    fn apply(&self, s: &mut State, pursuers: &mut Vec<NodeId>, evader: NodeId) -> bool {
+        let hit = caught(&s.pursuers, pursuers, s.evader, evader);
+        std::mem::swap(&mut s.pursuers, pursuers);
         s.evader = evader;
         hit
     }
@@ -163,9 +174,13 @@ impl Search<'_> {
     }
 
     fn iterate(&mut self, mut s: State, rng: &mut ChaCha8Rng) {
-        let mut path = vec![0u32];
+        let mut path = std::mem::take(&mut self.path);
+        let mut pending = std::mem::take(&mut self.pending);
+        let mut next = std::mem::take(&mut self.next);
+        path.clear();
+        path.push(0);
+        pending.clear();
         let mut node = 0usize;
-        let mut pending: Vec<NodeId> = Vec::with_capacity(self.movers);
         let mut turn = 0u32;
         let mut expanded = false;
         let mut result: Option<f64> = None;
@@ -197,17 +212,17 @@ impl Search<'_> {
             path.push(node as u32);
             pending.push(moves[slot]);
             if pending.len() == self.movers {
-                let own_moves = std::mem::take(&mut pending);
                 let hit = match self.side {
                     Side::Pursuers => {
                         let e = self.evader_policy(&s, rng);
-                        self.apply(&mut s, own_moves, e)
+                        self.apply(&mut s, &mut pending, e)
                     }
                     Side::Evader => {
-                        let p = self.pursuer_policy(&s, rng);
-                        self.apply(&mut s, p, own_moves[0])
+                        self.pursuer_policy(&s, rng, &mut next);
+                        self.apply(&mut s, &mut next, pending[0])
                     }
                 };
+                pending.clear();
                 turn += 1;
                 if hit {
                     result = Some(self.capture_reward(turn));
@@ -217,19 +232,19 @@ impl Search<'_> {
         }
         // Finish a partial joint move with the default policy, then roll out.
         if result.is_none() && !pending.is_empty() && turn < self.cfg.horizon {
-            let mut p = self.pursuer_policy(&s, rng);
-            p[..pending.len()].copy_from_slice(&pending);
+            self.pursuer_policy(&s, rng, &mut next);
+            next[..pending.len()].copy_from_slice(&pending);
             let e = self.evader_policy(&s, rng);
             turn += 1;
-            if self.apply(&mut s, p, e) {
+            if self.apply(&mut s, &mut next, e) {
                 result = Some(self.capture_reward(turn));
             }
         }
         while result.is_none() && turn < self.cfg.horizon {
-            let p = self.pursuer_policy(&s, rng);
+            self.pursuer_policy(&s, rng, &mut next);
             let e = self.evader_policy(&s, rng);
             turn += 1;
-            if self.apply(&mut s, p, e) {
+            if self.apply(&mut s, &mut next, e) {
                 result = Some(self.capture_reward(turn));
             }
         }
@@ -241,6 +256,9 @@ impl Search<'_> {
             n.visits += 1.0;
             n.value += reward;
         }
+        self.path = path;
+        self.pending = pending;
+        self.next = next;
     }
 
     /// UCT child choice among fully expanded children (ties: the first).
@@ -312,6 +330,10 @@ impl Mcts {
                 Side::Evader => 1,
             },
             scale: f64::from(u32::from(arena.diameter()).min(self.config.horizon).max(1)),
+            noise: (self.config.epsilon.clamp(0.0, 1.0) * 4_294_967_296.0) as u64,
+            path: Vec::new(),
+            pending: Vec::new(),
+            next: Vec::new(),
         };
         let deadline = self.config.budget.deadline();
         for i in 0..self.config.budget.iterations.max(1) {
@@ -333,13 +355,13 @@ impl PursuerStrategy for Mcts {
             pursuers: pursuers.clone(),
             evader: view.belief.most_likely().unwrap_or(pursuers[0]),
         };
-        let belief = view.belief;
+        let sampler = view.belief.sampler();
         let best = self.run(
             view.arena,
             Side::Pursuers,
             &root,
             |rng| {
-                belief.sample(rng).map(|evader| State {
+                sampler.sample(rng).map(|evader| State {
                     pursuers: pursuers.clone(),
                     evader,
                 })
@@ -365,14 +387,15 @@ impl EvaderStrategy for Mcts {
             pursuers: likely.clone(),
             evader: view.position,
         };
-        let beliefs = view.beliefs;
+        let samplers: Vec<Sampler> = view.beliefs.iter().map(Belief::sampler).collect();
         let evader = view.position;
         let best = self.run(
             view.arena,
             Side::Evader,
             &root,
             |rng| {
-                let pursuers: Option<Vec<NodeId>> = beliefs.iter().map(|b| b.sample(rng)).collect();
+                let pursuers: Option<Vec<NodeId>> =
+                    samplers.iter().map(|b| b.sample(rng)).collect();
                 pursuers.map(|pursuers| State { pursuers, evader })
             },
             rng,

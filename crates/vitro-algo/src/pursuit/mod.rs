@@ -47,7 +47,7 @@ mod sim;
 mod tests;
 
 pub use baseline::{FleeingEvader, GreedyPursuers, RandomEvader, RandomPursuers};
-pub use belief::Belief;
+pub use belief::{Belief, Sampler};
 pub use episode::{EpisodeResult, EvaderStrategy, EvaderView, PursuerStrategy, PursuerView, play};
 pub use mcts::{Mcts, MctsConfig};
 pub use minimax::{Minimax, MinimaxConfig};
@@ -152,6 +152,31 @@ impl Visibility for HopRange {
     }
 }
 
+/// [`Arena::toward`]'s table: for every (from, target), the bit set of the moves at `from`
+/// (closed neighbourhood, ascending) with the least hop distance to `target`.
+fn shortest_moves(closed: &[Vec<NodeId>], dist: &[u16]) -> Vec<u16> {
+    let n = closed.len();
+    let mut out = vec![0u16; n * n];
+    for (from, moves) in closed.iter().enumerate() {
+        if moves.len() > 16 {
+            continue;
+        }
+        for target in 0..n {
+            // Distances are symmetric (undirected graph): read the target's row.
+            let row = &dist[target * n..(target + 1) * n];
+            let best = moves.iter().map(|&v| row[v]).min().unwrap_or(FAR);
+            let mut bits = 0u16;
+            for (i, &v) in moves.iter().enumerate() {
+                if row[v] == best {
+                    bits |= 1 << i;
+                }
+            }
+            out[from * n + target] = bits;
+        }
+    }
+    out
+}
+
 /// Distance used for vertices in different components.
 pub const FAR: u16 = u16::MAX;
 
@@ -163,6 +188,9 @@ pub struct Arena {
     closed: Vec<Vec<NodeId>>,
     visible_from: Vec<Vec<NodeId>>,
     dist: Vec<u16>,
+    /// Per (from, target), a bit per move at `from` (index into [`Arena::moves`]) that is
+    /// on a shortest path to `target`; 0 where `from` has more than 16 moves.
+    toward: Vec<u16>,
     diameter: u16,
 }
 
@@ -179,7 +207,7 @@ impl Arena {
         if n > MAX_ARENA_NODES {
             return Err(PursuitError::TooLarge(n));
         }
-        let closed = (0..n)
+        let closed: Vec<Vec<NodeId>> = (0..n)
             .map(|v| {
                 let mut c = graph.neighbors(v).to_vec();
                 c.push(v);
@@ -211,11 +239,13 @@ impl Arena {
             .filter(|&d| d != FAR)
             .max()
             .unwrap_or(0);
+        let toward = shortest_moves(&closed, &dist);
         Ok(Arena {
             graph,
             closed,
             visible_from,
             dist,
+            toward,
             diameter,
         })
     }
@@ -248,6 +278,12 @@ impl Arena {
     /// Hop distance between `u` and `v`; [`FAR`] if disconnected.
     pub fn dist(&self, u: NodeId, v: NodeId) -> u16 {
         self.dist[u * self.closed.len() + v]
+    }
+
+    /// The moves at `from` on a shortest path to `target`, as bits over
+    /// [`Arena::moves`]`(from)`; 0 if `from` has more than 16 moves (not tabulated).
+    pub fn toward(&self, from: NodeId, target: NodeId) -> u16 {
+        self.toward[from * self.closed.len() + target]
     }
 
     /// The largest finite hop distance.

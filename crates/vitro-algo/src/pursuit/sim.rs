@@ -45,7 +45,21 @@ pub(crate) fn chase_step(
     target: NodeId,
     rng: &mut impl Rng,
 ) -> NodeId {
-    best_step(arena, from, rng, |v| -i64::from(arena.dist(v, target)))
+    let bits = arena.toward(from, target);
+    if bits == 0 {
+        return best_step(arena, from, rng, |v| -i64::from(arena.dist(target, v)));
+    }
+    // Uniform among the shortest-path moves (as `best_step` breaks ties).
+    let mut k = rng.random_range(0..bits.count_ones());
+    let mut rest = bits;
+    loop {
+        let i = rest.trailing_zeros();
+        if k == 0 {
+            return arena.moves(from)[i as usize];
+        }
+        k -= 1;
+        rest &= rest - 1;
+    }
 }
 
 /// A step that maximises the distance to the nearest threat, then the total distance.
@@ -62,7 +76,7 @@ pub(crate) fn flee_step(
         let mut nearest = i64::MAX;
         let mut total = 0i64;
         for &t in threats {
-            let d = i64::from(arena.dist(v, t));
+            let d = i64::from(arena.dist(t, v));
             nearest = nearest.min(d);
             total += d;
         }

@@ -235,3 +235,40 @@ fn more_iterations_improve_success() {
         "minimax: {low} captures with 10 nodes, {high} with 5000"
     );
 }
+
+#[test]
+fn toward_table_marks_exactly_the_shortest_path_moves() {
+    let mut edges = Vec::new();
+    // A grid with a pendant path and a separate component.
+    let g = graph::grid(4, 5).unwrap();
+    for u in 0..g.node_count() {
+        for &v in g.neighbors(u) {
+            if u < v {
+                edges.push((u, v));
+            }
+        }
+    }
+    edges.extend([(19, 20), (20, 21), (22, 23)]);
+    let arena = Arena::new(Graph::from_edges(24, &edges).unwrap(), &FullVisibility).unwrap();
+    for from in 0..24 {
+        for target in 0..24 {
+            let moves = arena.moves(from);
+            let best = moves.iter().map(|&v| arena.dist(v, target)).min().unwrap();
+            let bits = arena.toward(from, target);
+            for (i, &v) in moves.iter().enumerate() {
+                let marked = bits & (1 << i) != 0;
+                assert_eq!(
+                    marked,
+                    arena.dist(v, target) == best,
+                    "{from} -> {target} via {v}"
+                );
+            }
+        }
+    }
+    // Chasing draws among the marked moves only, and reaches every one of them.
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let picks: std::collections::BTreeSet<NodeId> = (0..200)
+        .map(|_| sim::chase_step(&arena, 0, 19, &mut rng))
+        .collect();
+    assert_eq!(picks, [1, 5].into_iter().collect());
+}

@@ -258,6 +258,13 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
         ok,
         "a number of iterations in 1..=10000000",
     );
+    let h = f.pursuit.horizon;
+    c.value(
+        "pursuit.horizon",
+        h,
+        (1..=1000).contains(&h),
+        "a number of turns in 1..=1000",
+    );
     let think = f.pursuit.think_us_per_iteration;
     c.num(
         "pursuit.think_us_per_iteration",

@@ -455,6 +455,9 @@ pub struct PursuitSpec {
     pub budget: u32,
     /// Simulated thinking time charged per iteration, microseconds.
     pub think_us_per_iteration: f64,
+    /// Turns (walk-graph moves) each MCTS simulation plays out (minimax deepens iteratively
+    /// within its budget instead).
+    pub horizon: u32,
 }
 
 impl Default for PursuitSpec {
@@ -463,6 +466,7 @@ impl Default for PursuitSpec {
             algorithm: PursuitAlgorithm::Mcts,
             budget: 500,
             think_us_per_iteration: 20.0,
+            horizon: 30,
         }
     }
 }

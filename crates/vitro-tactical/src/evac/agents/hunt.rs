@@ -43,6 +43,7 @@ impl Search {
         match spec.algorithm {
             PursuitAlgorithm::Mcts => Search::Mcts(Mcts::new(MctsConfig {
                 budget,
+                horizon: spec.horizon.max(1),
                 ..MctsConfig::default()
             })),
             PursuitAlgorithm::Minimax => Search::Minimax(Minimax::new(MinimaxConfig {
