@@ -16,6 +16,7 @@ use crate::scenario::{PursuitAlgorithm, PursuitSpec};
 use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
+use vitro::event::EventId;
 use vitro::sim::Context;
 use vitro::time::{SimDuration, SimTime};
 use vitro_algo::pursuit::{
@@ -78,6 +79,41 @@ impl Search {
         }
     }
 }
+
+/// The turn timer of a player of the hunt (the lead pursuer or the HVT): one pending turn
+/// at a time. A turn starts when the player's move ends (no sooner than [`MIN_TURN`] after
+/// the previous one began) or, failing an arrival, after a long fallback delay; whichever
+/// comes first replaces the other.
+#[derive(Debug, Default)]
+pub struct TurnClock {
+    pending: Option<EventId>,
+    began: SimTime,
+}
+
+impl TurnClock {
+    /// A turn begins now.
+    pub fn begin(&mut self, cx: &Context<'_, Tactical>) {
+        self.pending = None;
+        self.began = cx.now();
+    }
+    /// The next turn in `delay` (timer `key`), replacing the one pending.
+    pub fn next_in(&mut self, delay: SimDuration, key: u64, cx: &mut Context<'_, Tactical>) {
+        if let Some(id) = self.pending.take() {
+            cx.cancel(id);
+        }
+        self.pending = Some(cx.set_timer(delay, key));
+    }
+    /// The next turn after the move just ended: [`MIN_TURN`] after this one began at the
+    /// earliest.
+    pub fn after_move(&mut self, key: u64, cx: &mut Context<'_, Tactical>) {
+        let wait = MIN_TURN.saturating_sub(cx.now().saturating_since(self.began));
+        self.next_in(wait, key, cx);
+    }
+}
+
+/// Shortest time between two turns of a hunt player (a move along a short street still
+/// takes this long).
+pub const MIN_TURN: SimDuration = SimDuration::from_secs(10);
 
 /// What the lead does after a turn's bookkeeping.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]

@@ -4,7 +4,8 @@
 
 use super::SENSE;
 use super::hunt::Search;
-use super::trooper::{DECIDED, MIN_TURN, TURN};
+use super::hunt::TurnClock;
+use super::trooper::{DECIDED, TURN};
 use crate::arena::Ev;
 use crate::condition::Status;
 use crate::evac::act::{Fire, SetStatus, Walk};
@@ -120,7 +121,7 @@ pub struct Hvt {
     under_way: bool,
     /// Turns played.
     pub turns: u32,
-    turn_began: SimTime,
+    clock: TurnClock,
 }
 
 impl Hvt {
@@ -138,7 +139,7 @@ impl Hvt {
             next: None,
             under_way: false,
             turns: 0,
-            turn_began: SimTime::ZERO,
+            clock: TurnClock::default(),
         }
     }
 
@@ -149,7 +150,7 @@ impl Hvt {
         if me.status != Status::Active {
             return;
         }
-        self.turn_began = cx.now();
+        self.clock.begin(cx);
         let Some(board) = self.brief.board.clone() else {
             return;
         };
@@ -197,14 +198,14 @@ impl Hvt {
         }
         // The next turn starts on arrival (no sooner than MIN_TURN after this one began), or
         // after a long turn at the latest.
-        cx.set_timer(SimDuration::from_secs_f64(2.0 * self.brief.turn_s), TURN);
+        let fallback = SimDuration::from_secs_f64(2.0 * self.brief.turn_s);
+        self.clock.next_in(fallback, TURN, cx);
     }
 
     fn on_arrived(&mut self, cx: &mut Context<'_, Tactical>) {
         self.under_way = false;
         if self.turns > 0 {
-            let wait = MIN_TURN.saturating_sub(cx.now().saturating_since(self.turn_began));
-            cx.set_timer(wait, TURN);
+            self.clock.after_move(TURN, cx);
         }
     }
 }

@@ -2,7 +2,7 @@
 //! board, report hostile contacts, and — when sent after the high-value target — hunt it
 //! as a team (the first pursuer runs the search, see [`hunt`](super::hunt)).
 
-use super::hunt::{Hunt, HuntStep};
+use super::hunt::{Hunt, HuntStep, TurnClock};
 use super::{Reporter, SENSE, tell};
 use crate::arena::{Ev, TrackTarget};
 use crate::condition::Status;
@@ -22,8 +22,6 @@ use vitro::time::SimDuration;
 pub(crate) const TURN: u64 = 20;
 /// Timer key: the hunt's search is done (its simulated thinking time has passed).
 pub(crate) const DECIDED: u64 = 21;
-/// Shortest pursuit turn (a move along a short street still takes this long).
-pub(crate) const MIN_TURN: SimDuration = SimDuration::from_secs(10);
 
 /// What a trooper is doing.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,7 +55,7 @@ pub struct Trooper {
     pub hunt: Option<Hunt>,
     hunters: Vec<EntityId>,
     last_order: Option<Order>,
-    turn_began: vitro::time::SimTime,
+    clock: TurnClock,
     /// The last report sent (to whom, what): repeated if the same order comes again.
     report: Option<(EntityId, &'static str)>,
 }
@@ -75,7 +73,7 @@ impl Trooper {
             hunt: None,
             hunters: Vec::new(),
             last_order: None,
-            turn_began: vitro::time::SimTime::ZERO,
+            clock: TurnClock::default(),
             report: None,
         }
     }
@@ -165,11 +163,7 @@ impl Trooper {
             Task::Board(_) => self.try_board(cx),
             // The lead's move is done: the next turn, no sooner than MIN_TURN after this one
             // began.
-            Task::Hunt(_) if self.hunt.is_some() => {
-                let spent = cx.now().saturating_since(self.turn_began);
-                let wait = MIN_TURN.saturating_sub(spent);
-                cx.set_timer(wait, TURN);
-            }
+            Task::Hunt(_) if self.hunt.is_some() => self.clock.after_move(TURN, cx),
             _ => {}
         }
     }
@@ -226,7 +220,7 @@ impl Trooper {
         if !alive {
             return;
         }
-        self.turn_began = cx.now();
+        self.clock.begin(cx);
         match hunt.turn(cx) {
             HuntStep::Think(delay) => {
                 cx.set_timer(delay, DECIDED);
@@ -258,7 +252,7 @@ impl Trooper {
         // The next turn starts when the lead arrives (see on_arrived), or after a long turn
         // at the latest (a lost arrival, an order refused).
         let turn = SimDuration::from_secs_f64(2.0 * self.brief.turn_s);
-        cx.set_timer(turn, TURN);
+        self.clock.next_in(turn, TURN, cx);
     }
 }
 

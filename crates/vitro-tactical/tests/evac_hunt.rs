@@ -1,0 +1,59 @@
+//! The HVT hunt in the default mission: each player of the pursuit game (the hunt lead and
+//! the HVT) takes one turn at a time, at most one per `MIN_TURN` (10 s), and the hunt
+//! starts once the HVT is reported.
+
+use vitro::time::SimTime;
+use vitro_tactical::evac::Mission;
+use vitro_tactical::scenario::Preset;
+
+const SCENARIO: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/evacuation.toml"
+);
+
+/// The turn number an intention text states: "... turn N ...".
+fn turn_in(text: &str) -> Option<u32> {
+    let rest = &text[text.find("turn ")? + 5..];
+    let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+    digits.parse().ok()
+}
+
+#[test]
+fn hunt_players_take_one_turn_at_a_time() {
+    // Seed 2: the hunt starts early and lasts (no capture within the window).
+    let mut m = Mission::at_fidelity(SCENARIO, Some(2), Preset::Discrete).expect("builds");
+    m.end = SimTime::from_secs(1500);
+    let mut last: Vec<Option<(u32, f64)>> = vec![None; 2];
+    let mut turns = [0u32; 2];
+    let mut t = SimTime::ZERO;
+    while m.advance(t) {
+        let now = m.sim.now().as_secs_f64();
+        let f = m.frame();
+        for i in &f.intentions {
+            let who = if i.text.starts_with("evade") {
+                0
+            } else if i.text.starts_with("lead the HVT hunt") {
+                1
+            } else {
+                continue;
+            };
+            let Some(n) = turn_in(&i.text) else { continue };
+            if let Some((before, at)) = last[who] {
+                if n > before {
+                    // One new turn per look at most (looks are 1 s apart), and never two
+                    // turns within 10 s (thinking time aside).
+                    assert_eq!(n, before + 1, "{}: turns {before} -> {n} at {now}", i.text);
+                    assert!(now - at >= 9.0, "{}: turns {before} -> {n}, {at} -> {now}", i.text);
+                }
+            }
+            if last[who].is_none_or(|(b, _)| n > b) {
+                last[who] = Some((n, now));
+            }
+            turns[who] = n;
+        }
+        t += vitro::time::SimDuration::from_secs(1);
+    }
+    assert!(turns[0] >= 5 && turns[1] >= 3, "turns (HVT, lead): {turns:?}");
+    // Moves along the walk graph take about a minute: far fewer turns than seconds / 10.
+    assert!(turns[0] < 60, "HVT turns {}", turns[0]);
+}
