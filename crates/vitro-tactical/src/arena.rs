@@ -20,13 +20,14 @@ use crate::entity::discrete::{AtNode, NodeKind};
 use crate::entity::ground::interpolated::OnGround;
 use crate::entity::ground::physical::{Chassis, Physics, PhysicsError};
 use crate::entity::roads::Roads;
-use crate::entity::route::Follow;
+use crate::entity::route::{Follow, Track};
 use crate::entity::troop::Walker;
 use crate::entity::{Level, Pose};
 use crate::map::Mode;
 use crate::site::Site;
 use crate::types::{CtolKind, GroundKind, TroopKind, TypeBook, VtolKind};
 use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
 use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::env::{Effects, EntityStorage, NodeId, Probe, Sensor};
@@ -144,7 +145,36 @@ pub struct Arena {
     pub pilots: EntityStorage<Pilot>,
     /// Role, side and state of the entities that have one (sensors and mission actuators).
     pub conditions: EntityStorage<Condition>,
+    /// Tracks planned so far, by body kind, start and goal node (a trip depends on nothing
+    /// else, and vehicles on rounds drive the same trips again).
+    pub(crate) tracks: TrackCache,
     running: [bool; 3],
+}
+
+/// Most tracks kept in an arena's cache; it is emptied when full.
+const TRACK_CACHE_MAX: usize = 4096;
+
+/// Planned tracks, shared by the trips that drive them.
+#[derive(Debug, Default)]
+pub(crate) struct TrackCache(HashMap<(NodeKind, NodeId, NodeId), Arc<Track>>);
+
+impl TrackCache {
+    /// The track of `key`, planned by `plan` the first time.
+    pub(crate) fn get_or_plan<E>(
+        &mut self,
+        key: (NodeKind, NodeId, NodeId),
+        plan: impl FnOnce() -> Result<Track, E>,
+    ) -> Result<Arc<Track>, E> {
+        if let Some(t) = self.0.get(&key) {
+            return Ok(t.clone());
+        }
+        if self.0.len() >= TRACK_CACHE_MAX {
+            self.0.clear();
+        }
+        let t = Arc::new(plan()?);
+        self.0.insert(key, t.clone());
+        Ok(t)
+    }
 }
 
 impl Arena {
@@ -173,6 +203,7 @@ impl Arena {
             vtol: EntityStorage::default(),
             pilots: EntityStorage::default(),
             conditions: EntityStorage::default(),
+            tracks: TrackCache::default(),
             running: [false; 3],
         }
     }

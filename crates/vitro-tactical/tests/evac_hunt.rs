@@ -38,13 +38,17 @@ fn hunt_players_take_one_turn_at_a_time() {
                 continue;
             };
             let Some(n) = turn_in(&i.text) else { continue };
-            if let Some((before, at)) = last[who] {
-                if n > before {
-                    // One new turn per look at most (looks are 1 s apart), and never two
-                    // turns within 10 s (thinking time aside).
-                    assert_eq!(n, before + 1, "{}: turns {before} -> {n} at {now}", i.text);
-                    assert!(now - at >= 9.0, "{}: turns {before} -> {n}, {at} -> {now}", i.text);
-                }
+            if let Some((before, at)) = last[who]
+                && n > before
+            {
+                // One new turn per look at most (looks are 1 s apart), and never two turns
+                // within 10 s (thinking time aside).
+                assert_eq!(n, before + 1, "{}: turns {before} -> {n} at {now}", i.text);
+                assert!(
+                    now - at >= 9.0,
+                    "{}: turns {before} -> {n}, {at} -> {now}",
+                    i.text
+                );
             }
             if last[who].is_none_or(|(b, _)| n > b) {
                 last[who] = Some((n, now));
@@ -53,7 +57,10 @@ fn hunt_players_take_one_turn_at_a_time() {
         }
         t += vitro::time::SimDuration::from_secs(1);
     }
-    assert!(turns[0] >= 5 && turns[1] >= 3, "turns (HVT, lead): {turns:?}");
+    assert!(
+        turns[0] >= 5 && turns[1] >= 3,
+        "turns (HVT, lead): {turns:?}"
+    );
     // Moves along the walk graph take about a minute: far fewer turns than seconds / 10.
     assert!(turns[0] < 60, "HVT turns {}", turns[0]);
 }

@@ -47,30 +47,26 @@ pub(crate) fn arrived(who: EntityId, goal: NodeId, fx: &mut Effects<'_, Ev>) {
     fx.schedule_in(SimDuration::ZERO, Target::Entity(who), Ev::Arrived(goal));
 }
 
-/// The track from `from` to `goal` for a body of `kind`.
+/// The track from `from` to `goal` for a body of `kind` (planned once per arena, then
+/// shared).
 pub(crate) fn plan(
-    w: &Arena,
+    w: &mut Arena,
     kind: NodeKind,
     from: NodeId,
     goal: NodeId,
-) -> Result<Track, MoveError> {
-    let roads = w.roads.of(kind.mode());
-    let path = roads.path(from, goal)?;
-    Ok(match kind {
-        NodeKind::Ground(k) => Track::plan_vehicle(
-            &w.site,
-            roads,
-            &path,
-            w.types.ground(k),
-            &w.types.speed_limits,
-        )?,
-        NodeKind::Troop(k) => Track::plan_walk(
-            &w.site,
-            roads,
-            &path,
-            &w.types.troops,
-            w.types.troops.of(k).load,
-        )?,
+) -> Result<Arc<Track>, MoveError> {
+    let (site, roads, types) = (&w.site, &w.roads, &w.types);
+    w.tracks.get_or_plan((kind, from, goal), || {
+        let roads = roads.of(kind.mode());
+        let path = roads.path(from, goal)?;
+        Ok(match kind {
+            NodeKind::Ground(k) => {
+                Track::plan_vehicle(site, roads, &path, types.ground(k), &types.speed_limits)?
+            }
+            NodeKind::Troop(k) => {
+                Track::plan_walk(site, roads, &path, &types.troops, types.troops.of(k).load)?
+            }
+        })
     })
 }
 
@@ -95,12 +91,13 @@ pub(crate) fn start_trip(
         arrived(me, goal, fx);
         return Ok(());
     }
-    let track = plan(w, b.kind, b.node, goal)?;
+    let (kind, from) = (b.kind, b.node);
+    let track = plan(w, kind, from, goal)?;
     let trip = Trip {
         goal,
         next: 1,
         pending: None,
-        track: Arc::new(track),
+        track,
     };
     schedule_hop(w, me, trip, fx);
     Ok(())

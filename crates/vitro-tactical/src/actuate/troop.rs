@@ -37,7 +37,6 @@ pub mod directed {
     use crate::entity::discrete::NodeKind;
     use crate::entity::route::Follow;
     use crate::entity::troop::StepCmd;
-    use std::sync::Arc;
     use vitro::entity::EntityId;
     use vitro::env::{Actuator, Effects, NodeId};
 
@@ -87,14 +86,15 @@ pub mod directed {
                 arrived(me, goal, fx);
                 return Ok(());
             }
-            let track = plan(w, NodeKind::Troop(b.kind), b.node, goal)?;
+            let (kind, from) = (NodeKind::Troop(b.kind), b.node);
+            let track = plan(w, kind, from, goal)?;
             w.follow.insert(
                 me,
                 Follow {
                     goal,
                     s: 0.0,
                     next: 1,
-                    track: Arc::new(track),
+                    track,
                 },
             );
             w.wake(Clock::Kinematic, fx);

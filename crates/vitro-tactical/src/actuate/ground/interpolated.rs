@@ -7,7 +7,6 @@ use crate::arena::{Arena, Clock, Ev};
 use crate::entity::discrete::NodeKind;
 use crate::entity::ground::interpolated::MoveCmd;
 use crate::entity::route::Follow;
-use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::env::{Actuator, Effects, NodeId};
 
@@ -60,14 +59,15 @@ impl Actuator<Arena, Ev> for GoToNode {
             arrived(me, goal, fx);
             return Ok(());
         }
-        let track = plan(w, NodeKind::Ground(b.kind), b.node, goal)?;
+        let (kind, from) = (NodeKind::Ground(b.kind), b.node);
+        let track = plan(w, kind, from, goal)?;
         w.follow.insert(
             me,
             Follow {
                 goal,
                 s: 0.0,
                 next: 1,
-                track: Arc::new(track),
+                track,
             },
         );
         w.wake(Clock::Kinematic, fx);

@@ -12,7 +12,6 @@ use crate::entity::ground::physical::Controls;
 use crate::entity::route::{Follow, Track, wrap_angle};
 use crate::geo::{P2, closest_on_segment, dist};
 use crate::types::{G, RHO_AIR};
-use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::env::{Actuator, Effects, NodeId};
 
@@ -141,7 +140,8 @@ impl Actuator<Arena, Ev> for GoToNode {
             arrived(me, goal, fx);
             return Ok(());
         }
-        let track = plan(w, NodeKind::Ground(b.kind), b.node, goal)?;
+        let (kind, from) = (NodeKind::Ground(b.kind), b.node);
+        let track = plan(w, kind, from, goal)?;
         if let Some(p) = w.physics.as_mut() {
             p.park(me, false);
         }
@@ -152,7 +152,7 @@ impl Actuator<Arena, Ev> for GoToNode {
                 goal,
                 s: 0.0,
                 next: 1,
-                track: Arc::new(track),
+                track,
             },
         );
         w.wake(Clock::Physics, fx);
