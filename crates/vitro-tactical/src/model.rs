@@ -84,6 +84,9 @@ pub struct Intention {
     /// A belief about something hidden (e.g. where a pursued target may be): world points
     /// with their probabilities.
     pub belief: Vec<([f64; 3], f64)>,
+    /// A policy over places (e.g. where a patroller may be now): world points with their
+    /// probabilities.
+    pub heat: Vec<([f64; 3], f64)>,
 }
 
 impl Agent<Tactical> for Box<dyn Controller> {

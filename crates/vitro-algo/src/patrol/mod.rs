@@ -243,6 +243,11 @@ pub struct SolveOptions {
     /// phases, e.g. keeping near the convoys they guard, and are attacked only there (see the
     /// [module docs](self)). Found by local search on tubes, never certified. Default false.
     pub phase_locked: bool,
+    /// With [`SolveOptions::phase_locked`] and a single patroller, also solve the full-phase
+    /// time-dependent class (certified by branch and bound) and keep the better policy.
+    /// Default true; false skips that stage, which is the slower one on instances where no
+    /// full-phase policy can guard the convoys anyway (long timetables on a route).
+    pub full_phase_candidate: bool,
 }
 
 impl Default for SolveOptions {
@@ -257,6 +262,7 @@ impl Default for SolveOptions {
             restarts: 2,
             seed: 0,
             phase_locked: false,
+            full_phase_candidate: true,
         }
     }
 }
@@ -322,6 +328,9 @@ pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solutio
     let timed = (options.time_dependent || options.phase_locked) && period > 1;
     if instance.patrollers.len() > 1 {
         return team::solve(instance, options, period, &targets, timed);
+    }
+    if options.phase_locked && period > 1 && !options.full_phase_candidate {
+        return team::solve(instance, options, period, &targets, true);
     }
     if options.phase_locked && period > 1 {
         // The certified full-phase optimum, then the phase-locked local search: the better.

@@ -19,6 +19,9 @@ pub struct PlanParams {
     pub restarts: usize,
     /// Seed of the restarts. Default 0.
     pub seed: u64,
+    /// With [`PlanParams::phase_locked`] and one unit, also try the certified full-phase
+    /// policy (see [`SolveOptions::full_phase_candidate`]). Default true.
+    pub full_phase_candidate: bool,
 }
 
 impl Default for PlanParams {
@@ -28,6 +31,7 @@ impl Default for PlanParams {
             iterations: 60,
             restarts: 2,
             seed: 0,
+            full_phase_candidate: true,
         }
     }
 }
@@ -109,6 +113,7 @@ impl PatrolPlan {
             local_iterations: params.iterations,
             restarts: params.restarts,
             seed: params.seed,
+            full_phase_candidate: params.full_phase_candidate,
             ..SolveOptions::default()
         };
         let solution = solve_with(&instance, &options)?;

@@ -5,6 +5,7 @@ use super::act::{Dismount, Drive, Pilot, Walk};
 use super::agents::air::{AirRole, Aircraft, Ugv};
 use super::agents::commander::Commander;
 use super::agents::hunt::Board;
+use super::agents::patrol::{PatrolGame, PatrolUnit};
 use super::agents::red::{Adversary, Hvt};
 use super::agents::trooper::Trooper;
 use super::brief::Brief;
@@ -271,6 +272,13 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, MissionError> {
         range_m: Some(c.range_m),
         bandwidth_bps: None,
     });
+    // The Skeldars' patrol game, solved once (from the scenario's own seed: every run of a
+    // scenario flies the same plan, drawing its moves from its own seed).
+    let skeldars: Vec<EntityId> = find(Role::Skeldar).map(|m| m.id).collect();
+    let patrol = match skeldars.len() {
+        0 => None,
+        units => Some(Arc::new(PatrolGame::build(&brief, ty, units, file.seed)?)),
+    };
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5ce1_a410);
     let mut aircraft_slot = 0;
     // Drive-graph nodes holding a vehicle: two rigid bodies must not start in one place.
@@ -312,10 +320,15 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, MissionError> {
                 };
                 let height = m.altitude.unwrap_or(100.0);
                 let pilot = Pilot { level: m.level };
-                match role {
-                    AirRole::Cover { slot } => {
+                let unit = skeldars.iter().position(|&id| id == m.id);
+                match (role, &patrol, unit) {
+                    (AirRole::Cover { slot }, _, _) => {
                         let team = find(Role::Vidar).map(|v| v.id).collect();
                         Box::new(Aircraft::cover(brief.clone(), pilot, team, slot, height))
+                    }
+                    (AirRole::Patrol, Some(game), Some(unit)) => {
+                        let unit = PatrolUnit::new(game.clone(), unit);
+                        Box::new(Aircraft::patrol(brief.clone(), pilot, unit, height))
                     }
                     _ => Box::new(Aircraft::new(brief.clone(), pilot, role, height)),
                 }

@@ -186,6 +186,7 @@ impl Mission {
                     path: i.path,
                     original_plan: i.original_plan,
                     belief: i.belief,
+                    heat: i.heat,
                     ..Intention::default()
                 })
             })

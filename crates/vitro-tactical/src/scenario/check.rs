@@ -246,8 +246,8 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
     c.value(
         "patrol.horizon",
         h,
-        (1..=100).contains(&h),
-        "a number of steps in 1..=100",
+        (0..=100).contains(&h),
+        "a number of steps in 0..=100",
     );
 
     let budget = f.pursuit.budget;

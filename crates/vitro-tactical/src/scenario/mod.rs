@@ -412,15 +412,19 @@ impl Default for ChannelSpec {
     }
 }
 
-/// Randomized patrolling of the convoy.
+/// Randomized patrolling of the convoy: the Skeldars' patrolling game (a Stackelberg game
+/// solved when the mission is built; see `evac::agents::patrol`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct PatrolSpec {
-    /// Duration of one patrol step, seconds.
+    /// Duration of one patrol step, seconds: a Skeldar flies to its next checkpoint each step.
     pub step_s: f64,
-    /// Steps an attacker needs to complete an attack.
+    /// Steps an attacker needs to complete an attack (a Skeldar over the target at one of
+    /// them catches it).
     pub attack_steps: u32,
-    /// Steps of the patrol route the game looks ahead.
+    /// Steps the game looks ahead: besides the convoy, the patrol guards the route where the
+    /// convoy will be this many steps later (0: the convoy only, which a Skeldar guards by
+    /// riding along, without randomness).
     pub horizon: u32,
 }
 
@@ -429,7 +433,7 @@ impl Default for PatrolSpec {
         PatrolSpec {
             step_s: 20.0,
             attack_steps: 3,
-            horizon: 8,
+            horizon: 2,
         }
     }
 }

@@ -1,8 +1,9 @@
 //! The watchers: UAVs over the team and the UGV ahead of it. Each reports hostile contacts
 //! to the blue group.
 //!
-//! - [`AirRole::Patrol`] (Skeldar): flies a randomized patrol around the convoy — the next
-//!   waypoint drawn from the patrol policy over the route's checkpoints;
+//! - [`AirRole::Patrol`] (Skeldar): flies a randomized patrol around the convoy — every
+//!   patrol step the next checkpoint drawn from the policy of the patrol game
+//!   ([`patrol`](super::patrol)), phase-locked to the truck's progress;
 //! - [`AirRole::Cover`] (Vidar): hovers over the checkpoints the cover plan gives it ahead
 //!   of the team;
 //! - [`AirRole::Scout`] (Procerus): flies the route ahead of the truck;
@@ -10,6 +11,7 @@
 
 use super::commander::truck_pose;
 use super::cover::{CoverPlanner, Repair, checkpoints, nearest};
+use super::patrol::PatrolUnit;
 use super::{Reporter, SENSE, tell};
 use crate::arena::{Ev, TrackTarget};
 use crate::condition::Status;
@@ -76,6 +78,8 @@ pub struct Aircraft {
     path: Vec<[f64; 3]>,
     /// The cover plan, on the lead Vidar.
     pub cover: Option<CoverPlanner>,
+    /// Its unit of the patrol game (Skeldars).
+    pub patrol: Option<PatrolUnit>,
     /// Cover checkpoints to fly to, in order (Vidars).
     queue: Vec<usize>,
     /// The checkpoints of the last waypoint command.
@@ -94,6 +98,7 @@ impl Aircraft {
             reporter: Reporter::default(),
             path: Vec::new(),
             cover: None,
+            patrol: None,
             queue: Vec::new(),
             flying: Vec::new(),
             points: Vec::new(),
@@ -115,6 +120,60 @@ impl Aircraft {
             a.cover = Some(CoverPlanner::new(&brief, team));
         }
         a
+    }
+
+    /// A Skeldar flying `unit` of the patrol game.
+    pub fn patrol(brief: Arc<Brief>, pilot: Pilot, unit: PatrolUnit, height: f64) -> Self {
+        let mut a = Aircraft::new(brief, pilot, AirRole::Patrol, height);
+        a.patrol = Some(unit);
+        a
+    }
+
+    /// A patrol step: the next checkpoint of the patrol game, flown to (or none: it stays).
+    fn patrol_step(&mut self, cx: &mut Context<'_, Tactical>) {
+        let truck = truck_pose(cx, self.brief.truck);
+        let Some(unit) = self.patrol.as_mut() else {
+            return;
+        };
+        let Some(next) = unit.step(&self.brief, truck, cx.rng("patrol")) else {
+            return;
+        };
+        let Some(p) = unit.game.point(next) else {
+            return;
+        };
+        let points = vec![self.above(p)];
+        self.path = points.clone();
+        let _ = cx.act(
+            &self.pilot,
+            FlightCommand::Waypoints {
+                points,
+                speed: None,
+            },
+        );
+    }
+
+    /// The patrol's intention: the phase, the next checkpoint, and where the policy may have
+    /// the Skeldar now (the heat map).
+    fn patrol_intention(&self, unit: &PatrolUnit) -> Intention {
+        let game = &unit.game;
+        let text = format!(
+            "patrol: phase {}/{}, capture prob {:.2}",
+            unit.phase,
+            game.last_phase(),
+            game.trip_capture_probability
+        );
+        let plan = unit
+            .at
+            .map(|v| format!("fly to checkpoint {v}"))
+            .into_iter()
+            .collect();
+        Intention {
+            text,
+            plan,
+            path: self.path.clone(),
+            heat: game.heat(unit.unit, unit.phase),
+            ..Intention::default()
+        }
     }
 
     /// The lead's turn: makes or repairs the cover plan and hands out the steps.
@@ -202,29 +261,18 @@ impl Aircraft {
     }
 
     fn plan(&mut self, cx: &mut Context<'_, Tactical>) {
-        if let AirRole::Cover { .. } = self.role {
-            self.lead_cover(cx);
-            return;
+        match self.role {
+            AirRole::Cover { .. } => return self.lead_cover(cx),
+            AirRole::Patrol if self.patrol.is_some() => return self.patrol_step(cx),
+            _ => {}
         }
         let Some(truck) = truck_pose(cx, self.brief.truck) else {
             return;
         };
         let k = progress(&self.brief, truck);
         let points: Vec<[f64; 3]> = match self.role {
-            AirRole::Patrol => {
-                let r = 150.0;
-                let phase = cx.now().as_secs_f64() / PLAN_S;
-                (0..4)
-                    .map(|i| {
-                        let a = phase + f64::from(i) * std::f64::consts::FRAC_PI_2;
-                        [
-                            truck[0] + r * libm::cos(a),
-                            truck[1] + r * libm::sin(a),
-                            truck[2],
-                        ]
-                    })
-                    .collect()
-            }
+            // Without a patrol game: over the truck.
+            AirRole::Patrol => vec![truck],
             AirRole::Cover { slot } => self.route_point(k + 2 + 3 * slot).into_iter().collect(),
             AirRole::Scout => (1..=4)
                 .filter_map(|j| self.route_point(k + 3 * j))
@@ -256,8 +304,12 @@ impl Controller for Aircraft {
             Input::Timer(PLAN) => {
                 self.plan(cx);
                 let again = !matches!(self.role, AirRole::Cover { .. }) || self.cover.is_some();
+                let period = match &self.patrol {
+                    Some(unit) => unit.game.step_s,
+                    None => PLAN_S,
+                };
                 if again {
-                    cx.set_timer(SimDuration::from_secs_f64(PLAN_S), PLAN);
+                    cx.set_timer(SimDuration::from_secs_f64(period), PLAN);
                 }
             }
             Input::Event(Ev::Waypoint(i)) => self.reached(*i as usize),
@@ -287,6 +339,9 @@ impl Controller for Aircraft {
         }
     }
     fn intention(&self) -> Option<Intention> {
+        if let Some(unit) = &self.patrol {
+            return Some(self.patrol_intention(unit));
+        }
         let text = match self.role {
             AirRole::Patrol => "patrol around the convoy",
             AirRole::Cover { .. } => "cover the team from ahead",
