@@ -249,6 +249,14 @@ fn print_summary(r: &Report) {
             String::new()
         }
     );
+    if let Some(p) = m.patrol_capture_probability {
+        let pct = |x: Option<f64>| x.map_or("-".into(), |x| format!("{:.0} %", 100.0 * x));
+        println!(
+            "patrol        capture probability {p:.2} (computed); truck within cover radius {}, within sensor range {} of the escort",
+            pct(m.patrol_cover_fraction),
+            pct(m.patrol_sight_fraction)
+        );
+    }
     println!(
         "time          {:.1} s simulated in {:.3} s wall ({:.0}x real time), {} events ({:.0}/s)",
         m.sim_time_s, r.wall_time_s, r.sim_s_per_wall_s, m.events, r.events_per_wall_s

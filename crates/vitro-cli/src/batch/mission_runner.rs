@@ -40,6 +40,12 @@ fn metric_values(m: &Metrics, trace: u64) -> Vec<(&'static str, Value)> {
         ("plan_cuts", int(m.plan_cuts)),
         ("plan_messages", int(m.plan_messages)),
         ("shots", int(m.shots)),
+        (
+            "patrol_capture_probability",
+            opt(m.patrol_capture_probability),
+        ),
+        ("patrol_cover_fraction", opt(m.patrol_cover_fraction)),
+        ("patrol_sight_fraction", opt(m.patrol_sight_fraction)),
         ("events", int(m.events)),
         ("sim_time_s", Value::Float(m.sim_time_s)),
         ("trace_hash", Value::Text(format!("{trace:016x}"))),

@@ -174,6 +174,7 @@ impl Mission {
             .count() as u32;
         let mut referee = Referee::default();
         referee.metrics.adversaries = adversaries;
+        referee.sensor_range_m = built.brief.sensors.air.range_m;
         Ok(Mission {
             sim,
             brief: built.brief,
@@ -270,9 +271,13 @@ impl Mission {
             if let Some(a) = agent.and_then(|a| a.downcast_ref::<agents::red::Adversary>()) {
                 m.shots += u64::from(a.shots);
             }
-            let cover = agent
-                .and_then(|a| a.downcast_ref::<agents::air::Aircraft>())
-                .and_then(|a| a.cover.as_ref());
+            let aircraft = agent.and_then(|a| a.downcast_ref::<agents::air::Aircraft>());
+            if let Some(unit) = aircraft.and_then(|a| a.patrol.as_ref()) {
+                let p = unit.game.trip_capture_probability;
+                m.patrol_capture_probability =
+                    Some(m.patrol_capture_probability.map_or(p, |q| q.min(p)));
+            }
+            let cover = aircraft.and_then(|a| a.cover.as_ref());
             if let Some(c) = cover {
                 m.plan_repairs += c.repairs;
                 m.plan_cuts += c.cuts;

@@ -51,6 +51,16 @@ pub struct Metrics {
     pub plan_messages: u64,
     /// Shots fired by the adversaries.
     pub shots: u64,
+    /// The patrol game's least capture probability over the attacks of the trip, as
+    /// computed when the mission was built (absent without a Skeldar).
+    pub patrol_capture_probability: Option<f64>,
+    /// Share of the escort (the truck on its way, until the VIP is out) during which a
+    /// Skeldar was within the cover radius of the truck (horizontally; absent without a
+    /// Skeldar).
+    pub patrol_cover_fraction: Option<f64>,
+    /// Share of the escort during which a Skeldar was within its sensors' range of the truck
+    /// (horizontally, line of sight not checked).
+    pub patrol_sight_fraction: Option<f64>,
     /// Events fired.
     pub events: u64,
     /// Simulated time at the end, seconds.
@@ -66,6 +76,11 @@ pub struct Referee {
     /// Log lines of what changed (time, text), drained by the frames.
     pub log: Vec<(SimTime, String)>,
     statuses: BTreeMap<EntityId, Status>,
+    /// Range of the aircraft's sensors, metres (for [`Metrics::patrol_sight_fraction`]).
+    pub sensor_range_m: f64,
+    /// Escort time so far, and how much of it a Skeldar was within the cover radius and
+    /// within sensor range of the truck, seconds.
+    escort: [f64; 3],
 }
 
 impl Referee {
@@ -121,7 +136,43 @@ impl Referee {
         if uncovered && !m.success {
             m.time_uncovered_s += dt;
         }
+        let escorting = !m.success;
         m.sim_time_s = now.as_secs_f64();
+        if escorting {
+            self.watch_truck(w, dt, cover_radius);
+        }
+    }
+
+    /// Counts `dt` of escort, and whether a Skeldar was near the truck (patrol metrics).
+    fn watch_truck(&mut self, w: &Arena, dt: f64, cover_radius: f64) {
+        let active = |role: Role| {
+            w.conditions
+                .iter()
+                .filter(move |(_, c)| c.role == role && c.status == Status::Active)
+                .filter_map(|(id, _)| w.pose(id))
+        };
+        let Some(truck) = active(Role::Truck).next() else {
+            return;
+        };
+        let mut skeldars = active(Role::Skeldar).peekable();
+        if skeldars.peek().is_none() && self.escort[0] == 0.0 {
+            return;
+        }
+        let nearest = skeldars
+            .map(|p| libm::hypot(p.pos[0] - truck.pos[0], p.pos[1] - truck.pos[1]))
+            .fold(f64::INFINITY, f64::min);
+        self.escort[0] += dt;
+        if nearest <= cover_radius {
+            self.escort[1] += dt;
+        }
+        if nearest <= self.sensor_range_m {
+            self.escort[2] += dt;
+        }
+        let m = &mut self.metrics;
+        if self.escort[0] > 0.0 {
+            m.patrol_cover_fraction = Some(self.escort[1] / self.escort[0]);
+            m.patrol_sight_fraction = Some(self.escort[2] / self.escort[0]);
+        }
     }
 
     /// Notes a contact report about `target` at `now` (from the listener).

@@ -233,5 +233,15 @@ pub fn metric_map(m: &super::Metrics) -> BTreeMap<String, f64> {
     out.insert("messages_sent".into(), m.messages_sent as f64);
     out.insert("plan_repairs".into(), m.plan_repairs as f64);
     out.insert("shots".into(), m.shots as f64);
+    let patrol = [
+        ("patrol_capture_probability", m.patrol_capture_probability),
+        ("patrol_cover_fraction", m.patrol_cover_fraction),
+        ("patrol_sight_fraction", m.patrol_sight_fraction),
+    ];
+    for (name, value) in patrol {
+        if let Some(x) = value {
+            out.insert(name.into(), x);
+        }
+    }
     out
 }
