@@ -6,7 +6,7 @@ use vitro::time::{SimDuration, SimTime};
 use vitro_tactical::evac::Mission;
 use vitro_tactical::evac::agents::air::Aircraft;
 use vitro_tactical::evac::agents::patrol::PatrolUnit;
-use vitro_tactical::scenario::Preset;
+use vitro_tactical::scenario::{Preset, ScenarioFile};
 
 const SCENARIO: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -107,4 +107,26 @@ fn the_patrol_is_reproducible_and_changes_with_the_seed() {
         others.iter().any(|b| *b != a),
         "three other seeds flew the same patrol"
     );
+}
+
+#[test]
+fn two_skeldars_fly_one_plan_each() {
+    let text = std::fs::read_to_string(SCENARIO).expect("the default scenario");
+    let two = text.replacen(
+        "type = \"skeldar\"              # helicopter UAV: patrols the convoy",
+        "type = \"skeldar\"\ncount = 2",
+        1,
+    );
+    assert_ne!(two, text, "the Skeldar entity of the default scenario");
+    let v = ScenarioFile::validate_text(SCENARIO, &two).expect("valid");
+    let mut m = Mission::build(v, None).expect("builds");
+    let us = units(&m);
+    assert_eq!(us.iter().map(|u| u.unit).collect::<Vec<_>>(), [0, 1]);
+    assert_eq!(us[0].game.plan.units(), 2);
+    m.end = SimTime::from_secs(300);
+    m.run();
+    let us = units(&m);
+    assert!(us.iter().all(|u| u.at.is_some() && u.phase > 5), "{us:?}");
+    let p = m.metrics().patrol_capture_probability.expect("reported");
+    assert!(p >= us[0].game.trip_capture_probability - 1e-12);
 }

@@ -131,11 +131,11 @@ impl Aircraft {
 
     /// A patrol step: the next checkpoint of the patrol game, flown to (or none: it stays).
     fn patrol_step(&mut self, cx: &mut Context<'_, Tactical>) {
-        let truck = truck_pose(cx, self.brief.truck);
+        let truck = truck_pose(cx, self.brief.truck).map(|p| self.brief.site.to_town([p[0], p[1]]));
         let Some(unit) = self.patrol.as_mut() else {
             return;
         };
-        let Some(next) = unit.step(&self.brief, truck, cx.rng("patrol")) else {
+        let Some(next) = unit.step(truck, cx.rng("patrol")) else {
             return;
         };
         let Some(p) = unit.game.point(next) else {
