@@ -212,8 +212,13 @@ fn partial_tables_keep_the_other_defaults() {
     );
     assert_eq!(m.hvt_pursuers, 2);
     assert_eq!(
-        (f.patrol.step_s, f.patrol.attack_steps, f.patrol.horizon),
-        (20.0, 3, 2)
+        (
+            f.patrol.step_s,
+            f.patrol.attack_steps,
+            f.patrol.horizon,
+            f.patrol.iterations
+        ),
+        (20.0, 3, 2, 5)
     );
     assert_eq!(
         (f.pursuit.budget, f.pursuit.think_us_per_iteration),

@@ -249,6 +249,13 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
         (0..=100).contains(&h),
         "a number of steps in 0..=100",
     );
+    let it = p.iterations;
+    c.value(
+        "patrol.iterations",
+        it,
+        (1..=1000).contains(&it),
+        "a number of iterations in 1..=1000",
+    );
 
     let budget = f.pursuit.budget;
     let ok = (1..=10_000_000).contains(&budget);

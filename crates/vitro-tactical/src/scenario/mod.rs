@@ -426,6 +426,9 @@ pub struct PatrolSpec {
     /// convoy will be this many steps later (0: the convoy only, which a Skeldar guards by
     /// riding along, without randomness).
     pub horizon: u32,
+    /// LP iterations of each local search of the patrol solver (more: closer to the
+    /// optimum, a slower mission setup).
+    pub iterations: u32,
 }
 
 impl Default for PatrolSpec {
@@ -434,6 +437,7 @@ impl Default for PatrolSpec {
             step_s: 20.0,
             attack_steps: 3,
             horizon: 2,
+            iterations: 5,
         }
     }
 }

@@ -25,7 +25,7 @@
 //!   (the phase stops at the extraction point), and
 //!   [`PatrolGame::trip_capture_probability`] leaves it out.
 //! - **Solved** by [`PatrolPlan::solve`]: phase-locked time-dependent policies (one per
-//!   Skeldar, independent), the local search only ([`SOLVER_ITERATIONS`] LP iterations per
+//!   Skeldar, independent), the local search only (`patrol.iterations` LP iterations per
 //!   search, no random restarts, no full-phase candidate: on a route timetable no full-phase
 //!   policy guards a convoy). The plan depends on the scenario only (its seed seeds the
 //!   solver), so every run of a scenario flies the same plan, drawing its moves from its own
@@ -68,9 +68,6 @@ pub const SPACING_M: f64 = super::cover::SPACING_M;
 /// Share of the distance a Skeldar cruises in one patrol step that an edge may span (the
 /// rest is left for turns and acceleration).
 pub const REACH_SHARE: f64 = 0.8;
-/// LP iterations of each local search of the solver: the mission's games settle within a
-/// handful, and the mission is built thousands of times in a batch.
-pub const SOLVER_ITERATIONS: usize = 10;
 /// How far (metres along the route) the truck may be from where the timetable expects it
 /// before the patrol holds (late) or skips ahead (early): half a checkpoint spacing, the
 /// game's own resolution.
@@ -131,7 +128,8 @@ impl PatrolGame {
         } = Board::new(brief, types)?;
         let p = &brief.patrol;
         let targets = targets(&graph, &trip, p.horizon as usize, p.attack_steps).map_err(setup)?;
-        let plan = solve(graph, targets, units.max(1), seed).map_err(setup)?;
+        let iterations = p.iterations as usize;
+        let plan = solve(graph, targets, units.max(1), iterations, seed).map_err(setup)?;
         let trip_capture_probability = plan
             .threats
             .iter()
@@ -326,6 +324,7 @@ struct GameKey {
     graph: Graph,
     targets: Vec<Target>,
     units: usize,
+    iterations: usize,
     seed: u64,
 }
 
@@ -334,19 +333,22 @@ static SOLVED: Mutex<Vec<(GameKey, PatrolPlan)>> = Mutex::new(Vec::new());
 /// Most plans kept in [`SOLVED`].
 const SOLVED_KEPT: usize = 8;
 
-/// Solves the game of `targets` on `graph` for `units` units with [`SOLVER_ITERATIONS`],
-/// no restarts and no full-phase candidate, or returns the plan this process already solved
-/// for the same game (the solver is deterministic: the same plan).
+/// Solves the game of `targets` on `graph` for `units` units with `iterations` LP
+/// iterations per local search, no restarts and no full-phase candidate, or returns the plan
+/// this process already solved for the same game (the solver is deterministic: the same
+/// plan).
 fn solve(
     graph: Graph,
     targets: Vec<Target>,
     units: usize,
+    iterations: usize,
     seed: u64,
 ) -> Result<PatrolPlan, String> {
     let key = GameKey {
         graph,
         targets,
         units,
+        iterations,
         seed,
     };
     if let Ok(solved) = SOLVED.lock()
@@ -356,7 +358,7 @@ fn solve(
     }
     let params = PlanParams {
         phase_locked: true,
-        iterations: SOLVER_ITERATIONS,
+        iterations,
         restarts: 0,
         seed,
         full_phase_candidate: false,
@@ -435,7 +437,7 @@ mod tests {
         let timetable = vec![0.0, 100.0, 300.0, 300.0, 300.0, 500.0, 700.0];
         let trip: Vec<NodeId> = timetable.iter().map(|s| (s / 100.0) as usize).collect();
         let targets = targets(&graph, &trip, 1, 2).unwrap();
-        let plan = solve(graph, targets, 1, 0).unwrap();
+        let plan = solve(graph, targets, 1, 5, 0).unwrap();
         let route: Vec<P2> = (0..8).map(|i| [100.0 * f64::from(i), 0.0]).collect();
         let occupancy = vec![occupancy(&plan, 0).unwrap()];
         PatrolGame {
