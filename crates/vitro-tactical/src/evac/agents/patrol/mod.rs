@@ -37,7 +37,8 @@
 //! is about to drive. On the default scenario (19 checkpoints, 45 edges, a 17-step trip in a
 //! 24-step period, attacks of 3 steps, the route 2 steps ahead) the least capture
 //! probability is 0.5: some attack starts leave the Skeldar a coin flip between the convoy
-//! and the road ahead.
+//! and the road ahead. Solving it takes about 0.3 s of one core (release build, 5
+//! iterations); the mission's setup took 0.1 s before.
 //!
 //! # Playing it
 //!
