@@ -64,3 +64,46 @@ fn hunt_players_take_one_turn_at_a_time() {
     // Moves along the walk graph take about a minute: far fewer turns than seconds / 10.
     assert!(turns[0] < 60, "HVT turns {}", turns[0]);
 }
+
+#[test]
+fn aircraft_join_the_hunt_once_the_convoy_is_done() {
+    let mut m = Mission::at_fidelity(SCENARIO, Some(2), Preset::Discrete).expect("builds");
+    m.end = SimTime::from_secs(1500);
+    let support = "support the HVT hunt";
+    let mut joined_at = None;
+    let mut t = SimTime::ZERO;
+    while m.advance(t) {
+        let f = m.frame();
+        let truck_out = f
+            .intentions
+            .iter()
+            .any(|i| i.text.starts_with("at the extraction point"));
+        for i in f.intentions.iter().filter(|i| i.text.starts_with(support)) {
+            // Not before the truck is at the extraction point.
+            assert!(truck_out, "{} at {:?} before the convoy is done", i.text, t);
+            joined_at.get_or_insert(t);
+            // An orbit of four points round a walk-graph node (the lead's search point).
+            assert_eq!(i.path.len(), 4);
+            let c = [
+                i.path.iter().map(|p| p[0]).sum::<f64>() / 4.0,
+                i.path.iter().map(|p| p[1]).sum::<f64>() / 4.0,
+            ];
+            let town = m.brief.site.to_town(c);
+            let walk = m.brief.roads.of(vitro_tactical::map::Mode::Walk);
+            let node = walk.nearest_connected(town).expect("a walk node");
+            let at = walk.graph.node(node).expect("the node").pos;
+            assert!(libm::hypot(at[0] - town[0], at[1] - town[1]) < 1.0, "{c:?}");
+        }
+        t += vitro::time::SimDuration::from_secs(5);
+    }
+    let aircraft = m
+        .frame()
+        .intentions
+        .iter()
+        .filter(|i| i.text.starts_with(support))
+        .count();
+    assert!(
+        joined_at.is_some() && aircraft >= 3,
+        "{aircraft} aircraft, from {joined_at:?}"
+    );
+}

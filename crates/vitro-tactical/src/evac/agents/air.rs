@@ -11,6 +11,7 @@
 
 use super::commander::truck_pose;
 use super::cover::{CoverPlanner, Repair, checkpoints, nearest};
+use super::overwatch::Overwatch;
 use super::patrol::PatrolUnit;
 use super::{Reporter, SENSE, tell};
 use crate::arena::{Ev, TrackTarget};
@@ -32,6 +33,10 @@ use vitro::time::SimDuration;
 const PLAN: u64 = 40;
 /// Re-planning period of the aircraft, seconds.
 const PLAN_S: f64 = 20.0;
+/// Timer key of the check whether to support the HVT hunt.
+const OVERWATCH: u64 = 41;
+/// Period of that check, seconds.
+const OVERWATCH_S: f64 = 20.0;
 
 /// What an aircraft does.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -85,6 +90,10 @@ pub struct Aircraft {
     /// The checkpoints of the last waypoint command.
     flying: Vec<usize>,
     points: Vec<[f64; 3]>,
+    /// The hunt's search point, from the hunt lead.
+    overwatch: Overwatch,
+    /// True once the convoy is done and the aircraft searches for the HVT.
+    pub hunting: bool,
 }
 
 impl Aircraft {
@@ -102,6 +111,8 @@ impl Aircraft {
             queue: Vec::new(),
             flying: Vec::new(),
             points: Vec::new(),
+            overwatch: Overwatch::default(),
+            hunting: false,
         }
     }
 
@@ -260,7 +271,47 @@ impl Aircraft {
         self.brief.node_point(Mode::Drive, n)
     }
 
+    /// Joins the hunt once the truck is at the extraction point and the hunt lead has named a
+    /// search point.
+    fn check_hunt(&mut self, cx: &mut Context<'_, Tactical>) {
+        if self.hunting || self.overwatch.point.is_none() {
+            return;
+        }
+        let last = self.brief.route.len().saturating_sub(1);
+        let done =
+            truck_pose(cx, self.brief.truck).is_some_and(|p| progress(&self.brief, p) >= last);
+        if done {
+            self.hunting = true;
+            self.fly_orbit(cx);
+        }
+    }
+
+    /// Circles the hunt's search point (aircraft spread round it by id).
+    fn fly_orbit(&mut self, cx: &mut Context<'_, Tactical>) {
+        let slot = cx.me().0 as usize;
+        let points: Vec<[f64; 3]> = self
+            .overwatch
+            .orbit(slot)
+            .into_iter()
+            .map(|p| self.above([p[0], p[1], 0.0]))
+            .collect();
+        if points.is_empty() {
+            return;
+        }
+        self.path = points.clone();
+        let _ = cx.act(
+            &self.pilot,
+            FlightCommand::Waypoints {
+                points,
+                speed: None,
+            },
+        );
+    }
+
     fn plan(&mut self, cx: &mut Context<'_, Tactical>) {
+        if self.hunting {
+            return;
+        }
         match self.role {
             AirRole::Cover { .. } => return self.lead_cover(cx),
             AirRole::Patrol if self.patrol.is_some() => return self.patrol_step(cx),
@@ -300,6 +351,13 @@ impl Controller for Aircraft {
                 cx.join(BLUE);
                 cx.set_timer(SimDuration::from_secs(1), SENSE);
                 cx.set_timer(SimDuration::ZERO, PLAN);
+                cx.set_timer(SimDuration::from_secs_f64(OVERWATCH_S), OVERWATCH);
+            }
+            Input::Timer(OVERWATCH) => {
+                self.check_hunt(cx);
+                if !self.hunting {
+                    cx.set_timer(SimDuration::from_secs_f64(OVERWATCH_S), OVERWATCH);
+                }
             }
             Input::Timer(PLAN) => {
                 self.plan(cx);
@@ -312,9 +370,18 @@ impl Controller for Aircraft {
                     cx.set_timer(SimDuration::from_secs_f64(period), PLAN);
                 }
             }
+            // Round the orbit again from its last point.
+            Input::Event(Ev::Waypoint(i)) if self.hunting && *i as usize + 1 >= self.path.len() => {
+                self.fly_orbit(cx);
+            }
+            Input::Event(Ev::Waypoint(_)) if self.hunting => {}
             Input::Event(Ev::Waypoint(i)) => self.reached(*i as usize),
             Input::Message(env) => {
+                if self.overwatch.hear(&env.body) && self.hunting {
+                    self.fly_orbit(cx);
+                }
                 if let Radio::Plan(body) = &env.body
+                    && !self.hunting
                     && let Some((how, rest)) = body.split_first()
                 {
                     let steps = rest
@@ -339,6 +406,13 @@ impl Controller for Aircraft {
         }
     }
     fn intention(&self) -> Option<Intention> {
+        if self.hunting {
+            return Some(Intention {
+                text: "support the HVT hunt: search round the lead's most likely place".into(),
+                path: self.path.clone(),
+                ..Intention::default()
+            });
+        }
         if let Some(unit) = &self.patrol {
             return Some(self.patrol_intention(unit));
         }

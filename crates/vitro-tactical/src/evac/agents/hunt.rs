@@ -10,10 +10,13 @@
 //! The target does the same on its side ([`super::red::Hvt`]).
 
 use crate::arena::TrackTarget;
-use crate::evac::brief::Brief;
+use crate::evac::brief::{BLUE, Brief};
+use crate::map::Mode;
 use crate::model::Tactical;
+use crate::radio::Radio;
 use crate::scenario::{PursuitAlgorithm, PursuitSpec};
 use std::sync::Arc;
+use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
 use vitro::event::EventId;
@@ -23,6 +26,10 @@ use vitro_algo::pursuit::{
     Belief, Budget, EvaderStrategy, EvaderView, Mcts, MctsConfig, Minimax, MinimaxConfig,
     PursuerStrategy, PursuerView,
 };
+
+/// `Radio::Signal(SEARCH, "x y")`: the hunt lead's most likely place of the target (world
+/// metres), sent to the blue group every turn.
+pub const SEARCH: &str = "search";
 
 /// The pursuit board shared by the hunters and the hunted: the walk graph with
 /// line-of-sight visibility between its nodes.
@@ -199,6 +206,15 @@ impl Hunt {
         if belief.size() == 0 {
             *belief = Belief::uniform(n);
         }
+        // Where the team should look: the most likely place, to every blue unit (the
+        // aircraft free of the convoy search there).
+        let likely = belief
+            .most_likely()
+            .and_then(|v| self.brief.node_point(Mode::Walk, NodeId(v as u32)));
+        if let Some(p) = likely {
+            let body = Radio::Signal(SEARCH.into(), format!("{:.1} {:.1}", p[0], p[1]));
+            cx.send(Outgoing::new(Address::Group(BLUE), body));
+        }
         let view = PursuerView {
             arena: &board,
             positions: &at,
@@ -239,9 +255,7 @@ impl Hunt {
         };
         b.members()
             .filter_map(|v| {
-                let p = self
-                    .brief
-                    .node_point(crate::map::Mode::Walk, NodeId(v as u32))?;
+                let p = self.brief.node_point(Mode::Walk, NodeId(v as u32))?;
                 Some((p, b.prob(v)))
             })
             .collect()

@@ -5,6 +5,7 @@ pub mod air;
 pub mod commander;
 pub mod cover;
 pub mod hunt;
+pub mod overwatch;
 pub mod patrol;
 pub mod red;
 pub mod trooper;
