@@ -6,7 +6,7 @@ use super::kb::{self, Signature};
 use super::motion::{Follow, Mover, xy};
 use super::pattern::{Pattern, Trail, slot_point};
 use super::record::{Arrival, Switch, TrackPoint};
-use super::sense::{FreeSlot, Gait, Hostiles, Leg, NearestNode, WalkRoute};
+use super::sense::{FreeSlot, Gait, Hostiles, NearestNode};
 use super::{FormationError, FormationParams};
 use crate::arena::{Ev, OwnPose, TrackTarget};
 use crate::entity::route::wrap_angle;
@@ -23,7 +23,9 @@ use vitro::time::{SimDuration, SimTime};
 use vitro_algo::rules::Interpreter;
 
 mod modules;
+mod orders;
 use modules::Bound;
+use orders::{dismiss, parse_id};
 
 /// The leader's modules and their update operations.
 const MODULES: Signature = &[
@@ -115,6 +117,7 @@ pub struct Leader {
     st: State,
     started: bool,
     cycles: u64,
+    tick_index: u64,
 }
 
 impl Leader {
@@ -177,7 +180,17 @@ impl Leader {
             },
             started: false,
             cycles: 0,
+            tick_index: 0,
         })
+    }
+
+    /// The same leader, deliberating on timer `TimerTag(0x464c).key(index)` (default 0) and
+    /// ignoring that tag's other keys: an agent that replaces its formation controller gives
+    /// the new one another index, so that a tick the old one left pending is not taken for
+    /// the new one's.
+    pub fn with_timer_index(mut self, index: u64) -> Self {
+        self.tick_index = index;
+        self
     }
 
     /// The formation in force: `file`, `column`, `line` or `wedge`.
@@ -216,6 +229,25 @@ impl Leader {
     /// Deliberation cycles run.
     pub fn cycles(&self) -> u64 {
         self.cycles
+    }
+    /// The rest of the route under way (world points, from the next one to reach, at the
+    /// discrete level from the next node; the goal alone once there), empty without an
+    /// order.
+    pub fn route_ahead(&self) -> Vec<[f64; 3]> {
+        let Some(r) = &self.st.route else {
+            return Vec::new();
+        };
+        let f = &r.follow;
+        let from = match self.st.pose.map(|p| p.level) {
+            Some(Level::Discrete) => f
+                .leg
+                .nodes
+                .get(f.next_node)
+                .map_or(f.leg.pts.len(), |&(i, _)| i),
+            _ => f.next,
+        };
+        let from = from.min(f.leg.pts.len().saturating_sub(1));
+        f.leg.pts.get(from..).map(<[_]>::to_vec).unwrap_or_default()
     }
     /// Things that went wrong (refused commands, members dropped, failed updates), in
     /// order.
@@ -313,38 +345,6 @@ impl Leader {
     }
 }
 
-/// Tells `id` it is no longer in the squad.
-fn dismiss(cx: &mut Context<'_, Tactical>, id: EntityId) {
-    let msg = Radio::Signal("formation".into(), "none".into());
-    cx.send(Outgoing::new(Address::Agent(id), msg));
-}
-
-/// The rest of `old` up to its next node, then the walk route from that node to `goal`.
-fn splice(cx: &mut Context<'_, Tactical>, old: &Follow, goal: P2) -> Option<Leg> {
-    let &(end, _) = old.leg.nodes.iter().find(|&&(i, _)| i >= old.next)?;
-    let node = old.leg.pts.get(end)?;
-    let tail = cx.sense(&WalkRoute {
-        from: [node[0], node[1]],
-        to: goal,
-    })?;
-    let mut leg = Leg {
-        pts: old.leg.pts[old.next..=end].to_vec(),
-        v: old.leg.v[old.next..=end].to_vec(),
-        nodes: Vec::new(),
-    };
-    let shift = leg.pts.len() - 1;
-    leg.pts.extend(tail.pts.iter().skip(1));
-    leg.v.extend(tail.v.iter().skip(1));
-    leg.nodes = tail.nodes.iter().map(|&(i, n)| (i + shift, n)).collect();
-    Some(leg)
-}
-
-/// An entity number as written in `join` / `leave`: `7` or `#7`.
-fn parse_id(s: &str) -> Option<EntityId> {
-    let s = s.trim();
-    s.strip_prefix('#').unwrap_or(s).parse().ok().map(EntityId)
-}
-
 impl State {
     fn problem(&mut self, p: String) {
         if self.problems.last() != Some(&p) {
@@ -366,44 +366,6 @@ impl State {
             d += SimDuration::from_secs_f64(self.worst / self.walk.max(0.1));
         }
         d
-    }
-
-    /// Plans the walk to `goal` for `requester`.
-    fn go_to(&mut self, cx: &mut Context<'_, Tactical>, requester: EntityId, goal: P2) {
-        let pose = cx.sense(&OwnPose);
-        let mut leg = pose.and_then(|p| {
-            cx.sense(&WalkRoute {
-                from: xy(&p),
-                to: goal,
-            })
-        });
-        if leg.is_none() && pose.is_some_and(|p| p.level != Level::Discrete) {
-            // No node in a straight line from here (held on a bend): on along the route
-            // walked so far to its next node, and from there.
-            let old = self
-                .route
-                .as_ref()
-                .map(|r| &r.follow)
-                .or(self.held.as_ref());
-            leg = old.and_then(|f| splice(cx, f, goal));
-        }
-        self.at_goal_since = None;
-        self.held = None;
-        match leg {
-            Some(leg) => {
-                self.route = Some(Route {
-                    follow: Follow::new(leg),
-                    requester,
-                    goal,
-                })
-            }
-            None => {
-                self.route = None;
-                let msg = Radio::Signal("unreachable".into(), format!("{} {}", goal[0], goal[1]));
-                cx.send(Outgoing::new(Address::Agent(requester), msg));
-                self.problem(format!("no walk route to {goal:?}"));
-            }
-        }
     }
 
     /// Own sightings, and the end of a contact that is too old.
@@ -590,8 +552,8 @@ impl Controller for Leader {
     fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
         match input {
             Input::Timer(key) if TICK.index(key).is_some() => {
-                if self.tick(cx) {
-                    cx.set_timer(self.st.params.period, TICK.key(0));
+                if TICK.index(key) == Some(self.tick_index) && self.tick(cx) {
+                    cx.set_timer(self.st.params.period, TICK.key(self.tick_index));
                 }
                 return;
             }
@@ -610,7 +572,7 @@ impl Controller for Leader {
         if !self.started {
             self.started = true;
             if self.tick(cx) {
-                cx.set_timer(self.st.params.period, TICK.key(0));
+                cx.set_timer(self.st.params.period, TICK.key(self.tick_index));
             }
         }
     }

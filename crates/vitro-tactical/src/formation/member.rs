@@ -4,7 +4,7 @@
 use super::kb::{self, Signature, answers, atom, fact};
 use super::motion::{Follow, Mover, xy};
 use super::pattern::{Pattern, Trail, slot_point};
-use super::sense::{ClearWay, FreeSlot, Gait, Hostile, Hostiles, WalkRoute};
+use super::sense::{ClearWay, FreeSlot, Gait, Hostile, Hostiles, NextNode, WalkRoute};
 use super::{FormationError, FormationParams, MEMBER_PROGRAM};
 use crate::arena::{Ev, OwnPose, TrackTarget};
 use crate::entity::{Level, Pose};
@@ -114,6 +114,7 @@ pub struct Member {
     doing: String,
     started: bool,
     cycles: u64,
+    tick_index: u64,
 }
 
 impl Member {
@@ -173,7 +174,17 @@ impl Member {
             },
             started: false,
             cycles: 0,
+            tick_index: 0,
         }
+    }
+
+    /// The same member, deliberating on timer `TimerTag(0x464d).key(index)` (default 0)
+    /// and ignoring that tag's other keys (see [`Leader::with_timer_index`]).
+    ///
+    /// [`Leader::with_timer_index`]: super::Leader::with_timer_index
+    pub fn with_timer_index(mut self, index: u64) -> Self {
+        self.tick_index = index;
+        self
     }
 
     /// The leader it follows.
@@ -187,6 +198,11 @@ impl Member {
     /// The pattern it keeps, if briefed.
     pub fn pattern(&self) -> Option<Pattern> {
         self.st.brief.map(|b| b.pattern)
+    }
+    /// Where its slot was at its latest cycle (world metres, free of forbidden zones), if
+    /// it was briefed and saw the leader.
+    pub fn slot_point(&self) -> Option<P2> {
+        self.st.slot
     }
     /// Deliberation cycles run.
     pub fn cycles(&self) -> u64 {
@@ -279,8 +295,19 @@ impl State {
             return;
         };
         let keep = (b.slot as f64 + 2.0) * b.spacing + 10.0;
-        let at = xy(&lead);
+        let mut at = xy(&lead);
         self.trail.record(at, keep);
+        if pose.level == Level::Discrete && lead.speed > 0.0 {
+            // The leader is hopping to the next node: the slot is taken from there, so that
+            // the member hops at the same time instead of a hop behind.
+            let next = NextNode {
+                from: at,
+                heading: lead.heading,
+            };
+            if let Some((_, q)) = cx.sense(&next) {
+                at = q;
+            }
+        }
         let (base, raw) = slot_point(
             b.pattern,
             b.slot,
@@ -534,8 +561,8 @@ impl Controller for Member {
     fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
         match input {
             Input::Timer(key) if TICK.index(key).is_some() => {
-                if self.tick(cx) {
-                    cx.set_timer(self.st.params.period, TICK.key(0));
+                if TICK.index(key) == Some(self.tick_index) && self.tick(cx) {
+                    cx.set_timer(self.st.params.period, TICK.key(self.tick_index));
                 }
                 return;
             }
@@ -546,7 +573,7 @@ impl Controller for Member {
         if !self.started {
             self.started = true;
             if self.tick(cx) {
-                cx.set_timer(self.st.params.period, TICK.key(0));
+                cx.set_timer(self.st.params.period, TICK.key(self.tick_index));
             }
         }
     }

@@ -8,6 +8,7 @@
 //! - [`WalkRoute`]: a route on the free walk graph between two points, with its Pandolf
 //!   walking speeds (the squad's map and compass);
 //! - [`NearestNode`]: the walk-graph node nearest to a point;
+//! - [`NextNode`]: the walk-graph node a body on a node is heading for;
 //! - [`Gait`]: the body's own walking speed on the level;
 //! - [`Hostiles`]: red troopers in range and in line of sight.
 
@@ -279,6 +280,38 @@ impl Sensor<Arena> for NearestNode {
         let n = walk.nearest_connected(env.site.to_town(self.0))?;
         let p = walk.graph.node(n)?.pos;
         Some((n, env.site.to_world(p)))
+    }
+}
+
+/// The walk-graph node next to the node at world point `from` whose bearing from it is
+/// `heading` (within 0.05 rad), with its world position: where a body hopping from that
+/// node along that heading is going (a walk-graph hop is a straight piece between nodes).
+/// `None` if no neighbour lies that way.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct NextNode {
+    /// The node the body hops from, world metres.
+    pub from: P2,
+    /// Its heading, radians from east.
+    pub heading: f64,
+}
+
+impl Sensor<Arena> for NextNode {
+    type Reading = Option<(NodeId, P2)>;
+    fn read(&self, env: &Arena, _: EntityId, _: &mut Probe<'_>) -> Option<(NodeId, P2)> {
+        let walk = &env.roads.walk;
+        let at = env.site.to_town(self.from);
+        let n = walk.nearest_connected(at)?;
+        let p = walk.graph.node(n)?.pos;
+        walk.graph
+            .neighbors(n)
+            .filter_map(|(v, _, _)| {
+                let q = walk.graph.node(v)?.pos;
+                let bearing = libm::atan2(q[1] - p[1], q[0] - p[0]);
+                let off = crate::entity::route::wrap_angle(bearing - self.heading).abs();
+                (off < 0.05).then_some((off, v, q))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+            .map(|(_, v, q)| (v, env.site.to_world(q)))
     }
 }
 
