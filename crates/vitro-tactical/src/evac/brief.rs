@@ -4,6 +4,7 @@
 
 use crate::entity::Level;
 use crate::entity::roads::Roads;
+use crate::formation::FormationParams;
 use crate::geo::P2;
 use crate::map::Mode;
 use crate::scenario::{MissionSpec, PatrolSpec, PursuitSpec, RepairSpec, SensorsSpec};
@@ -38,7 +39,8 @@ pub struct Brief {
     pub legs_back: Vec<NodeId>,
     /// The drive-graph nodes of the whole route, in order (for the scouts).
     pub route: Vec<NodeId>,
-    /// Where the VIP waits: a walk-graph node by the safehouse.
+    /// Where the VIP waits: the walk-graph node nearest its start in the scenario (the
+    /// safehouse if it has none).
     pub vip_node: NodeId,
     /// World points of the start, the safehouse and the extraction point.
     pub places: [[f64; 3]; 3],
@@ -58,6 +60,20 @@ pub struct Brief {
     pub board: Option<Arc<crate::evac::agents::hunt::Board>>,
     /// Length of a pursuit turn: the time to walk a typical walk-graph edge, seconds.
     pub turn_s: f64,
+    /// How the escort walks in formation.
+    pub formation: FormationBrief,
+}
+
+/// The squad's formation settings: the leader's rule program and the parameters of every
+/// member (the scenario's `[formation]` table).
+#[derive(Clone, Debug)]
+pub struct FormationBrief {
+    /// The leader's rule program, source text (the scenario's file or the built-in
+    /// [`LEADER_PROGRAM`](crate::formation::LEADER_PROGRAM)); checked when the mission is
+    /// built.
+    pub program: String,
+    /// The squad's parameters (spacing from the scenario).
+    pub params: FormationParams,
 }
 
 impl Brief {

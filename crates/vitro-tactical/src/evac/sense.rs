@@ -100,3 +100,31 @@ pub fn covered(w: &Arena, target: EntityId, radius: f64) -> bool {
                 .is_some_and(|q| libm::hypot(q.pos[0] - p.pos[0], q.pos[1] - p.pos[1]) <= radius)
     })
 }
+
+/// Whether the person `who` lies down (hit) within `range` metres of the observer and in
+/// its line of sight: a soldier sees a comrade fall. False for an observer without a body.
+#[derive(Copy, Clone, Debug)]
+pub struct Fallen {
+    /// The person looked at.
+    pub who: EntityId,
+    /// How far the observer sees, metres.
+    pub range: f64,
+}
+
+impl Sensor<Arena> for Fallen {
+    type Reading = bool;
+    fn read(&self, w: &Arena, me: EntityId, _: &mut Probe<'_>) -> bool {
+        let down = w
+            .conditions
+            .get(self.who)
+            .is_some_and(|c| c.status == Status::Down);
+        let (Some(a), Some(b)) = (w.pose(me), w.pose(self.who)) else {
+            return false;
+        };
+        let near = libm::hypot(a.pos[0] - b.pos[0], a.pos[1] - b.pos[1]) <= self.range;
+        // Eyes of a standing observer, the body on the ground.
+        let eye = [a.pos[0], a.pos[1], a.pos[2] + 1.7];
+        let body = [b.pos[0], b.pos[1], b.pos[2] + 0.3];
+        down && near && w.site.los.visible(eye, body)
+    }
+}

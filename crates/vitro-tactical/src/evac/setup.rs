@@ -8,11 +8,12 @@ use super::agents::hunt::Board;
 use super::agents::patrol::{PatrolGame, PatrolUnit};
 use super::agents::red::{Adversary, Hvt};
 use super::agents::trooper::Trooper;
-use super::brief::Brief;
+use super::brief::{Brief, FormationBrief};
 use super::{Member, MissionError};
 use crate::arena::{Arena, Ev};
 use crate::condition::{Condition, Role, Status};
 use crate::entity::roads::{FreeGraph, Roads};
+use crate::formation::{FormationParams, LEADER_PROGRAM, Leader};
 use crate::geo::{P2, dist};
 use crate::map::Mode;
 use crate::mission::VisitNodes;
@@ -40,6 +41,9 @@ const LEG_M: f64 = 400.0;
 const BOARD_SIGHT_M: f64 = 150.0;
 /// Eye height of a person, metres.
 const EYE_M: f64 = 1.7;
+/// The formation's deliberation period at the discrete level, where a trooper hops whole
+/// walk-graph edges (tens of seconds each) and a half-second cycle would only repeat itself.
+const DISCRETE_PERIOD: SimDuration = SimDuration::from_secs(2);
 
 fn role_of(t: EntityType) -> Role {
     match t {
@@ -229,13 +233,17 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, MissionError> {
     let back_path = drive.path(safe, extr).map_err(route_err)?;
     let mut route = out_path.clone();
     route.extend(back_path.iter().skip(1));
-    let vip_node = node(walk, p.safehouse, "safehouse")?;
+    // The VIP waits where the file puts it (the escort fetches it on foot from the
+    // safehouse's crossroads), else at the safehouse.
+    let vip_at = find(Role::Vip).find_map(|m| m.start).unwrap_or(p.safehouse);
+    let vip_node = node(walk, vip_at, "VIP")?;
     let trooper_level = file.fidelity.level_of(EntityType::Trooper);
     let ty = TypeBook::builtin();
     let board = match hvt {
         Some(_) => Some(Arc::new(board(&site, walk)?)),
         None => None,
     };
+    let formation = formation_brief(&v.loaded, trooper_level)?;
     let brief = Arc::new(Brief {
         site: site.clone(),
         roads: roads.clone(),
@@ -260,6 +268,7 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, MissionError> {
         repair: file.repair.clone(),
         board,
         turn_s: turn_seconds(walk),
+        formation,
     });
 
     let arena = Arena::with(site.clone(), roads.clone(), Arc::new(ty.clone()));
@@ -439,6 +448,30 @@ fn place(
     }
     w.conditions.insert(m.id, cond);
     Ok(())
+}
+
+/// The squad's formation settings: the scenario's leader program (or the built-in one),
+/// checked by building a leader with it, and its spacing.
+fn formation_brief(
+    loaded: &crate::scenario::Loaded,
+    level: crate::entity::Level,
+) -> Result<FormationBrief, MissionError> {
+    let program = match &loaded.program {
+        Some(path) => std::fs::read_to_string(path).map_err(|e| {
+            MissionError::Setup(format!("formation program {}: {e}", path.display()))
+        })?,
+        None => LEADER_PROGRAM.to_string(),
+    };
+    let mut params = FormationParams {
+        spacing: loaded.file.formation.spacing_m,
+        ..FormationParams::default()
+    };
+    if level == crate::entity::Level::Discrete {
+        params.period = DISCRETE_PERIOD;
+    }
+    Leader::new(&program, Vec::new(), params.clone())
+        .map_err(|e| MissionError::Setup(format!("formation: {e}")))?;
+    Ok(FormationBrief { program, params })
 }
 
 /// A pursuit turn: the time to walk a mean walk-graph edge at a patrol pace (1.3 m/s),

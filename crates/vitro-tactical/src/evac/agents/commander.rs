@@ -1,6 +1,7 @@
 //! The truck and its commander: drives the team to the safehouse leg by leg, sends the
-//! troopers for the VIP, takes everybody back on board, drives to the extraction point, and
-//! splits off pursuers when the high-value target is reported.
+//! troopers for the VIP as a squad in formation (see [`squad`](super::squad)) and back with
+//! it, takes everybody on board, drives to the extraction point, and splits off pursuers
+//! when the high-value target is reported.
 
 use super::{SENSE, tell};
 use crate::actuate::MoveError;
@@ -31,14 +32,27 @@ const REPEAT_S: f64 = 30.0;
 pub enum Phase {
     /// Driving to the safehouse.
     Out,
-    /// Troopers on their way to the VIP.
+    /// The squad on its way to the VIP, and waiting with it for the pickup time.
     Pickup,
+    /// The squad bringing the VIP back to the truck.
+    Escort,
     /// Everybody coming back on board.
     Boarding,
     /// Driving to the extraction point.
     Back,
     /// At the extraction point.
     Done,
+}
+
+/// The squad walking in formation during the pickup, as the commander made it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Squad {
+    /// Who leads it (and is ordered where to go).
+    pub leader: EntityId,
+    /// Who follows the leader, in slot order (the VIP last, once reached).
+    pub members: Vec<EntityId>,
+    /// Where it is going, world (x, y).
+    pub goal: [f64; 2],
 }
 
 /// The truck's controller.
@@ -62,6 +76,10 @@ pub struct Commander {
     pub log: Vec<(SimTime, Phase)>,
     /// The last refusal of the drive actuator, if the last leg was refused.
     pub refused: Option<MoveError>,
+    /// The squad on foot, while it walks.
+    pub squad: Option<Squad>,
+    /// Team members reported down.
+    pub fallen: BTreeSet<EntityId>,
 }
 
 impl Commander {
@@ -82,6 +100,8 @@ impl Commander {
             hunt_pending: false,
             log: Vec::new(),
             refused: None,
+            squad: None,
+            fallen: BTreeSet::new(),
         }
     }
 
@@ -104,13 +124,13 @@ impl Commander {
         }
     }
 
-    /// The team members on foot for this phase: the troopers not hunting.
+    /// The team members on foot for this phase: the troopers not hunting nor down.
     fn escorts(&self) -> Vec<EntityId> {
         let b = &self.brief;
         b.team
             .iter()
             .copied()
-            .filter(|id| !self.hunters.contains(id))
+            .filter(|id| !self.hunters.contains(id) && !self.fallen.contains(id))
             .collect()
     }
 
@@ -133,10 +153,20 @@ impl Commander {
                 let _ = cx.act(&self.dismount, out);
                 self.enter(Phase::Pickup, cx);
                 let to = self.vip_point();
-                self.ordered_at = cx.now();
-                for id in self.escorts() {
-                    tell(cx, id, Radio::Order(Order::GoTo([to[0], to[1]])));
-                    self.waiting.insert(id);
+                // The last escort leads: pursuers are taken from the first troopers, so a
+                // hunt called during the walk takes members rather than the leader.
+                let escorts = self.escorts();
+                match escorts.split_last() {
+                    Some((&leader, rest)) => {
+                        self.squad = Some(Squad {
+                            leader,
+                            members: rest.to_vec(),
+                            goal: [to[0], to[1]],
+                        });
+                        self.order_squad(cx);
+                    }
+                    // Nobody to send: the VIP comes alone.
+                    None => self.board_all(cx),
                 }
             }
             Phase::Back => {
@@ -147,7 +177,85 @@ impl Commander {
         }
     }
 
+    /// Orders the squad where it goes: the leader to its goal, the others to follow the
+    /// leader; waits for the leader's answer.
+    fn order_squad(&mut self, cx: &mut Context<'_, Tactical>) {
+        let Some(s) = &self.squad else {
+            return;
+        };
+        self.ordered_at = cx.now();
+        tell(cx, s.leader, Radio::Order(Order::GoTo(s.goal)));
+        for &m in &s.members {
+            tell(cx, m, Radio::Order(Order::Follow(s.leader)));
+        }
+        self.waiting.clear();
+        self.waiting.insert(s.leader);
+    }
+
+    /// Keeps the squad led by someone on his feet and not hunting: drops the others, and
+    /// promotes the last trooper that follows when the leader is gone (ordered at once);
+    /// gives the squad up (everybody back on board) when no trooper is left to lead it.
+    fn reform(&mut self, cx: &mut Context<'_, Tactical>) {
+        let Some(s) = &mut self.squad else {
+            return;
+        };
+        let (fallen, hunters) = (&self.fallen, &self.hunters);
+        let fit = |id: &EntityId| !fallen.contains(id) && !hunters.contains(id);
+        s.members.retain(fit);
+        if fit(&s.leader) {
+            return;
+        }
+        match s.members.iter().rposition(|m| self.brief.team.contains(m)) {
+            Some(i) => {
+                s.leader = s.members.remove(i);
+                self.order_squad(cx);
+            }
+            None => self.board_all(cx),
+        }
+    }
+
+    /// A team member was reported down.
+    fn casualty(&mut self, id: EntityId, cx: &mut Context<'_, Tactical>) {
+        if !self.fallen.insert(id) {
+            return;
+        }
+        let waited = self.waiting.remove(&id);
+        self.reform(cx);
+        if waited {
+            self.all_answered(cx);
+        }
+    }
+
+    /// The pickup time is over: the squad brings the VIP back to the truck (everybody
+    /// boards at once if there is no squad any more).
+    fn escort_back(&mut self, cx: &mut Context<'_, Tactical>) {
+        let to = self.truck_point(cx);
+        let Some(s) = &mut self.squad else {
+            self.board_all(cx);
+            return;
+        };
+        s.goal = to;
+        self.enter(Phase::Escort, cx);
+        self.order_squad(cx);
+    }
+
+    /// The walk-graph point nearest the truck, world (x, y).
+    fn truck_point(&self, cx: &mut Context<'_, Tactical>) -> [f64; 2] {
+        let at = cx
+            .sense(&Myself)
+            .and_then(|(_, p)| p)
+            .map_or(self.brief.places[1], |p| p.pos);
+        let p = self
+            .brief
+            .walk_node(at)
+            .and_then(|n| self.brief.node_point(Mode::Walk, n))
+            .unwrap_or(at);
+        [p[0], p[1]]
+    }
+
     fn board_all(&mut self, cx: &mut Context<'_, Tactical>) {
+        self.squad = None;
+        self.waiting.clear();
         self.enter(Phase::Boarding, cx);
         let me = cx.me();
         self.ordered_at = cx.now();
@@ -173,6 +281,7 @@ impl Commander {
         }
         self.hunters = self.brief.team.iter().copied().take(k).collect();
         let waited_for_hunters = self.hunters.iter().any(|id| self.waiting.remove(id));
+        self.reform(cx);
         match self.phase {
             Phase::Out | Phase::Back => self.hunt_pending = true,
             _ => self.release_hunters(cx),
@@ -210,16 +319,30 @@ impl Commander {
         }
     }
 
-    fn on_signal(&mut self, from: EntityId, what: &str, cx: &mut Context<'_, Tactical>) {
-        if what == "captured" {
-            self.hunt_done = true;
+    fn on_signal(&mut self, from: EntityId, what: &str, arg: &str, cx: &mut Context<'_, Tactical>) {
+        match what {
+            "captured" => self.hunt_done = true,
+            "down" => {
+                let id = arg.trim().parse().ok().map(EntityId);
+                let ours = |id: &EntityId| self.brief.team.contains(id) || *id == self.brief.vip;
+                if let Some(id) = id.filter(ours) {
+                    self.casualty(id, cx);
+                }
+                return;
+            }
+            "unreachable" if self.squad.as_ref().is_some_and(|s| s.leader == from) => {
+                // No walk route for the squad: everybody back on board on their own.
+                self.board_all(cx);
+                return;
+            }
+            _ => {}
         }
         if !self.waiting.remove(&from) {
             return;
         }
         if matches!(
             (self.phase, what),
-            (Phase::Pickup, "arrived") | (Phase::Boarding, "aboard")
+            (Phase::Pickup | Phase::Escort, "arrived") | (Phase::Boarding, "aboard")
         ) {
             self.all_answered(cx);
         }
@@ -232,9 +355,18 @@ impl Commander {
         }
         match self.phase {
             Phase::Pickup => {
+                // The squad is at the VIP, who joins it.
+                let vip = self.brief.vip;
+                if let Some(s) = &mut self.squad
+                    && !s.members.contains(&vip)
+                {
+                    s.members.push(vip);
+                    tell(cx, vip, Radio::Order(Order::Follow(s.leader)));
+                }
                 let ready = SimDuration::from_secs_f64(self.brief.mission.pickup_s);
                 cx.set_timer(ready, READY);
             }
+            Phase::Escort => self.board_all(cx),
             Phase::Boarding => self.leave(cx),
             _ => {}
         }
@@ -242,6 +374,10 @@ impl Commander {
 
     /// Orders again whoever has not answered (orders or answers may be lost).
     fn repeat_orders(&mut self, cx: &mut Context<'_, Tactical>) {
+        if self.squad.is_some() {
+            self.order_squad(cx);
+            return;
+        }
         self.ordered_at = cx.now();
         let me = cx.me();
         let to = self.vip_point();
@@ -284,10 +420,7 @@ impl Commander {
         }
         if !self.waiting.is_empty() && waited > PATIENCE_S {
             match self.phase {
-                Phase::Pickup => {
-                    self.waiting.clear();
-                    self.board_all(cx);
-                }
+                Phase::Pickup | Phase::Escort => self.board_all(cx),
                 Phase::Boarding => self.leave(cx),
                 _ => {}
             }
@@ -309,10 +442,10 @@ impl Controller for Commander {
             Input::Event(Ev::Arrived(n)) if self.legs().get(self.leg) == Some(n) => {
                 self.on_arrived(cx);
             }
-            Input::Timer(READY) if self.phase == Phase::Pickup => self.board_all(cx),
+            Input::Timer(READY) if self.phase == Phase::Pickup => self.escort_back(cx),
             Input::Timer(SENSE) => self.on_sense(cx),
             Input::Message(env) => match &env.body {
-                Radio::Signal(what, _) => self.on_signal(env.from, what, cx),
+                Radio::Signal(what, arg) => self.on_signal(env.from, what, arg, cx),
                 Radio::Contact { target, .. } if Some(*target) == self.brief.hvt => {
                     self.start_hunt(cx);
                 }
@@ -325,7 +458,8 @@ impl Controller for Commander {
     fn intention(&self) -> Option<Intention> {
         let what = match self.phase {
             Phase::Out => "drive to the safehouse",
-            Phase::Pickup => "troopers fetch the VIP",
+            Phase::Pickup => "the squad fetches the VIP",
+            Phase::Escort => "the squad brings the VIP to the truck",
             Phase::Boarding => "wait for everybody on board",
             Phase::Back => "drive to the extraction point",
             Phase::Done => "at the extraction point",
@@ -339,6 +473,10 @@ impl Controller for Commander {
         let mut plan: Vec<String> = Vec::new();
         if matches!(self.phase, Phase::Out | Phase::Back) {
             plan.push(format!("leg {}/{}", self.leg + 1, legs.len()));
+        }
+        if let Some(s) = &self.squad {
+            let members: Vec<String> = s.members.iter().map(|m| m.to_string()).collect();
+            plan.push(format!("squad led by {}: {}", s.leader, members.join(" ")));
         }
         if !self.hunters.is_empty() {
             plan.push(format!("{} pursuers after the HVT", self.hunters.len()));

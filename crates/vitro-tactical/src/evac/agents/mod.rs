@@ -8,6 +8,7 @@ pub mod hunt;
 pub mod overwatch;
 pub mod patrol;
 pub mod red;
+pub mod squad;
 pub mod trooper;
 
 use super::brief::BLUE;
