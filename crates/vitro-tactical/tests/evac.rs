@@ -16,9 +16,9 @@ fn run(
     frames: bool,
 ) -> (u64, vitro_tactical::evac::referee::Metrics) {
     let mut m = Mission::at_fidelity(SCENARIO, seed, preset).expect("the default scenario builds");
-    // The VIP is out after about six minutes; the hunt may go on for the hour, which these
-    // tests do not need.
-    m.end = SimTime::from_secs(600);
+    // The VIP is out after nine to twelve minutes (the escort fetches it on foot); the hunt
+    // may go on for the hour, which these tests do not need.
+    m.end = SimTime::from_secs(900);
     if frames {
         let scene = m.scene();
         assert!(!scene.buildings.is_empty() && !scene.streets.is_empty());
@@ -39,7 +39,7 @@ fn default_mission_succeeds_at_the_discrete_level() {
     let (_, m) = run(Preset::Discrete, None, false);
     assert!(m.success, "{m:?}");
     let t = m.time_to_extraction_s.expect("extracted");
-    assert!(t > 60.0 && t < 600.0, "time to extraction {t}");
+    assert!(t > 60.0 && t < 900.0, "time to extraction {t}");
     assert!(m.adversaries == 6 && m.adversaries_detected <= m.adversaries);
     assert!(m.messages_sent > 0 && m.events > 1000);
     assert!(m.time_uncovered_s <= t);
