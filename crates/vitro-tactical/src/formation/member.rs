@@ -6,12 +6,15 @@ use super::motion::{Follow, Mover, xy};
 use super::pattern::{Pattern, Trail, slot_point};
 use super::sense::{ClearWay, FreeSlot, Gait, Hostile, Hostiles, NextNode, WalkRoute};
 use super::{FormationError, FormationParams, MEMBER_PROGRAM};
+
+mod briefing;
 use crate::arena::{Ev, OwnPose, TrackTarget};
 use crate::entity::{Level, Pose};
 use crate::geo::{P2, dist};
 use crate::model::{Controller, Tactical};
 use crate::radio::Radio;
 use crate::world::Side;
+use briefing::Brief;
 use vitro::comm::{Address, Envelope, Outgoing};
 use vitro::entity::EntityId;
 use vitro::protocol::TimerTag;
@@ -41,41 +44,6 @@ const WALK_MARGIN: f64 = 1.25;
 const TRAIL_TRIES: usize = 24;
 /// How much of its own way a member remembers, metres.
 const OWN_TRAIL: f64 = 150.0;
-
-/// What the leader told this member.
-#[derive(Copy, Clone, Debug, PartialEq)]
-struct Brief {
-    pattern: Pattern,
-    slot: usize,
-    spacing: f64,
-    facing: Option<f64>,
-}
-
-impl Brief {
-    /// Reads `"<pattern> <slot> <spacing> <facing|->"`; `Ok(None)` for `"none"`.
-    fn parse(text: &str) -> Result<Option<Brief>, String> {
-        let words: Vec<&str> = text.split_whitespace().collect();
-        match words.as_slice() {
-            ["none"] => Ok(None),
-            [p, k, s, f] => {
-                let pattern = Pattern::from_name(p).ok_or(format!("no pattern {p:?}"))?;
-                let slot = k.parse().map_err(|_| format!("bad slot {k:?}"))?;
-                let spacing: f64 = s.parse().map_err(|_| format!("bad spacing {s:?}"))?;
-                let facing = match *f {
-                    "-" => None,
-                    f => Some(f.parse().map_err(|_| format!("bad facing {f:?}"))?),
-                };
-                Ok(Some(Brief {
-                    pattern,
-                    slot,
-                    spacing,
-                    facing,
-                }))
-            }
-            _ => Err(format!("unreadable briefing {text:?}")),
-        }
-    }
-}
 
 /// Everything the member's modules read and write.
 #[derive(Debug)]
@@ -582,29 +550,6 @@ impl Controller for Member {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn briefings_read_back() {
-        let b = Brief::parse("wedge 3 5 -").unwrap();
-        assert_eq!(
-            b,
-            Some(Brief {
-                pattern: Pattern::Wedge,
-                slot: 3,
-                spacing: 5.0,
-                facing: None
-            })
-        );
-        let b = Brief::parse("line 1 4.5 1.25").unwrap().unwrap();
-        assert_eq!(
-            (b.pattern, b.slot, b.facing),
-            (Pattern::Line, 1, Some(1.25))
-        );
-        assert_eq!(Brief::parse("none").unwrap(), None);
-        for bad in ["", "wedge", "square 1 5 -", "file x 5 -", "file 1 5 north"] {
-            assert!(Brief::parse(bad).is_err(), "{bad:?}");
-        }
-    }
 
     #[test]
     fn the_built_in_program_loads() {
