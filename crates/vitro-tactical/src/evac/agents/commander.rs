@@ -177,14 +177,16 @@ impl Commander {
         }
     }
 
-    /// Orders the squad where it goes: the leader to its goal, the others to follow the
-    /// leader; waits for the leader's answer.
+    /// Orders the squad where it goes: the leader to its goal (with the roster the truck
+    /// counts on), the others to follow the leader; waits for the leader's answer.
     fn order_squad(&mut self, cx: &mut Context<'_, Tactical>) {
         let Some(s) = &self.squad else {
             return;
         };
         self.ordered_at = cx.now();
         tell(cx, s.leader, Radio::Order(Order::GoTo(s.goal)));
+        let roster: Vec<String> = s.members.iter().map(|m| m.0.to_string()).collect();
+        tell(cx, s.leader, Radio::Signal("squad".into(), roster.join(" ")));
         for &m in &s.members {
             tell(cx, m, Radio::Order(Order::Follow(s.leader)));
         }

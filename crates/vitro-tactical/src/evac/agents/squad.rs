@@ -18,6 +18,7 @@
 //! | `Order::GoTo([x, y])` | truck → trooper | lead the squad to (x, y): the trooper becomes the leader if it was not; its [`Leader`] answers `Signal("arrived", "")` (or `"unreachable"`) to the truck. The same order again while under way changes nothing |
 //! | `Order::Follow(l)`, `l` a person | truck → trooper or VIP | keep a slot in `l`'s squad: it becomes a [`Member`] of `l` and tells `l` `Signal("join", me)` (again at every such order, in case it was lost) |
 //! | `Signal("join" / "leave", id)` | member → leader | `id` joins (last slot) or leaves the squad; a trooper on foot that is told `join` starts leading |
+//! | `Signal("squad", "3 5")` | truck → leader | with every `GoTo`: the members the truck counts on; the leader drops any other (one sent after the high-value target whose `leave` was lost) |
 //! | `Signal("formation", ..)` | leader → member | the leader's briefing (pattern, slot, spacing, facing) |
 //! | `Radio::Contact` of a red body | member → leader | contact: a line facing the threat, slow pace (the leader's own eyes count too; reports from outside the squad do not) |
 //! | `Order::Follow(truck)`, `Order::Pursue` | truck → trooper | it leaves the squad; leaving for the hunt, a member tells its leader `leave` and a leader tells its members `Signal("formation", "none")` (they stand still until the truck names a new leader) |
@@ -141,6 +142,26 @@ impl Squad {
         };
         if relevant {
             self.forward(Input::Message(env), cx);
+        }
+    }
+
+    /// A leader drops the members that are not in `roster` (the truck's `Signal("squad",
+    /// "3 5")`: the members it counts on, e.g. not those sent after the high-value target,
+    /// whose own `leave` may have been lost).
+    pub fn keep_only(&mut self, roster: &str, cx: &mut Context<'_, Tactical>) {
+        let Part::Lead { leader, .. } = &mut self.part else {
+            return;
+        };
+        let keep: Vec<&str> = roster.split_whitespace().collect();
+        let gone: Vec<EntityId> = leader
+            .roster()
+            .iter()
+            .copied()
+            .filter(|m| !keep.contains(&m.0.to_string().as_str()))
+            .collect();
+        for m in gone {
+            let leave = note(cx, Radio::Signal("leave".into(), m.0.to_string()));
+            leader.handle(Input::Message(&leave), cx);
         }
     }
 

@@ -395,6 +395,11 @@ impl Trooper {
                 // Someone follows it before its own order came: it leads.
                 self.join_squad(Squad::lead);
             }
+            Radio::Signal(s, roster) if s == "squad" && env.from == self.brief.truck => {
+                if let Some(squad) = self.squad.as_mut() {
+                    squad.keep_only(roster, cx);
+                }
+            }
             Radio::Contact { target, pos, .. } => {
                 if let Some(h) = self.hunt.as_mut()
                     && h.target == *target
