@@ -299,10 +299,12 @@ impl State {
             slot
         };
         let me = xy(pose);
-        self.clear = cx.sense(&ClearWay {
-            from: me,
-            to: target,
-        });
+        // At the discrete level every way is a walk on the graph: no straight way to probe.
+        self.clear = pose.level == Level::Discrete
+            || cx.sense(&ClearWay {
+                from: me,
+                to: target,
+            });
         self.gap = dist(me, slot);
         self.slot = Some(slot);
         self.target = Some(target);

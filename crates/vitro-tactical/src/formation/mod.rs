@@ -94,7 +94,8 @@
 //! node by node with `WalkToNode` (it cannot slow down; it waits at each node for the
 //! stragglers, the timeout counted afresh at every node and lengthened by the time to walk
 //! the worst gap, since an edge can take minutes), and each member hops to the node nearest
-//! its slot whenever it is at rest. While the leader is on a hop, a member takes its slot
+//! its slot whenever it is at rest (every way being a walk on the graph, members probe no
+//! straight ways: `clear` always holds). While the leader is on a hop, a member takes its slot
 //! from the node the leader is hopping to ([`sense::NextNode`]: a hop is a straight piece
 //! between nodes, so the leader's heading names it), so that the squad hops together
 //! rather than a hop behind. The formation is then only as fine as the graph: slots snap to

@@ -186,7 +186,11 @@ impl Commander {
         self.ordered_at = cx.now();
         tell(cx, s.leader, Radio::Order(Order::GoTo(s.goal)));
         let roster: Vec<String> = s.members.iter().map(|m| m.0.to_string()).collect();
-        tell(cx, s.leader, Radio::Signal("squad".into(), roster.join(" ")));
+        tell(
+            cx,
+            s.leader,
+            Radio::Signal("squad".into(), roster.join(" ")),
+        );
         for &m in &s.members {
             tell(cx, m, Radio::Order(Order::Follow(s.leader)));
         }
