@@ -1,7 +1,7 @@
 //! The truck and its commander: drives the team to the safehouse leg by leg, sends the
-//! troopers for the VIP as a squad in formation (see [`squad`](super::squad)) and back with
-//! it, takes everybody on board, drives to the extraction point, and splits off pursuers
-//! when the high-value target is reported.
+//! troopers for the VIP as a squad in formation (see the [squad module](super::squad)) and
+//! back with it, takes everybody on board, drives to the extraction point, and splits off
+//! pursuers when the high-value target is reported.
 
 use super::{SENSE, tell};
 use crate::actuate::MoveError;

@@ -1,7 +1,7 @@
 //! Blue troopers and the VIP on foot: they walk in formation where the commander orders
-//! (see [`squad`](super::squad)), come back on board, report hostile contacts, and — when
-//! sent after the high-value target — hunt it as a team (the first pursuer runs the search,
-//! see [`hunt`](super::hunt)).
+//! (see the [squad module](super::squad)), come back on board, report hostile contacts,
+//! and — when sent after the high-value target — hunt it as a team (the first pursuer runs
+//! the search, see [`hunt`](super::hunt)).
 
 use super::hunt::{Hunt, HuntStep, TurnClock};
 use super::squad::{self, Part, Squad, note};
