@@ -295,6 +295,11 @@ impl Aircraft {
             .into_iter()
             .map(|p| self.above([p[0], p[1], 0.0]))
             .collect();
+        self.fly(points, cx);
+    }
+
+    /// Flies through `points` (world metres; none: no command) and shows them as its path.
+    fn fly(&mut self, points: Vec<[f64; 3]>, cx: &mut Context<'_, Tactical>) {
         if points.is_empty() {
             return;
         }
@@ -330,17 +335,7 @@ impl Aircraft {
                 .collect(),
         };
         let points: Vec<[f64; 3]> = points.into_iter().map(|p| self.above(p)).collect();
-        if points.is_empty() {
-            return;
-        }
-        self.path = points.clone();
-        let _ = cx.act(
-            &self.pilot,
-            FlightCommand::Waypoints {
-                points,
-                speed: None,
-            },
-        );
+        self.fly(points, cx);
     }
 }
 
