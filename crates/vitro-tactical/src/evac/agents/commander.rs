@@ -286,7 +286,11 @@ impl Commander {
             return;
         }
         self.hunters = self.brief.team.iter().copied().take(k).collect();
-        let waited_for_hunters = self.hunters.iter().any(|id| self.waiting.remove(id));
+        // Every pursuer leaves the wait (`any` would stop at the first one removed).
+        let mut waited_for_hunters = false;
+        for id in &self.hunters {
+            waited_for_hunters |= self.waiting.remove(id);
+        }
         self.reform(cx);
         match self.phase {
             Phase::Out | Phase::Back => self.hunt_pending = true,
