@@ -153,14 +153,7 @@ impl Aircraft {
             return;
         };
         let points = vec![self.above(p)];
-        self.path = points.clone();
-        let _ = cx.act(
-            &self.pilot,
-            FlightCommand::Waypoints {
-                points,
-                speed: None,
-            },
-        );
+        self.fly(points, cx);
     }
 
     /// The patrol's intention: the phase, the next checkpoint, and where the policy may have
@@ -242,14 +235,7 @@ impl Aircraft {
             return;
         }
         self.flying = self.queue.clone();
-        self.path = points.clone();
-        let _ = cx.act(
-            &self.pilot,
-            FlightCommand::Waypoints {
-                points,
-                speed: None,
-            },
-        );
+        self.fly(points, cx);
     }
 
     /// Waypoint `i` of the last command reached: drops the steps flown.
