@@ -142,13 +142,18 @@ async fn pause_step_speed_and_resume_drive_the_run() {
     wait_for(&mut ws, "frame", |v| v["frame"]["t_ns"].as_u64() > Some(0)).await;
 
     send(&mut ws, r#"{"cmd":"pause"}"#).await;
-    wait_for(&mut ws, "status", |v| v["paused"] == true).await;
+    // The frame showing where the run stopped may come before or after the status that
+    // says it is paused.
+    let (_, before) = wait_noting(&mut ws, "status", |v| v["paused"] == true, "frame").await;
     // The run stops, and shows where it stopped.
     let control = run.control();
     let at = control.events_fired();
     tokio::time::sleep(std::time::Duration::from_millis(300)).await;
     assert_eq!(control.events_fired(), at, "paused runs fire nothing");
-    let shown = wait_for(&mut ws, "frame", |v| v["frame"]["events"] == at).await;
+    let shown = match before.filter(|v| v["frame"]["events"] == at) {
+        Some(v) => v,
+        None => wait_for(&mut ws, "frame", |v| v["frame"]["events"] == at).await,
+    };
     let t_paused = shown["frame"]["t_ns"].as_u64().expect("t");
 
     for k in 1..=3 {

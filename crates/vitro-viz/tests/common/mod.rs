@@ -205,14 +205,39 @@ pub async fn next_of(ws: &mut Ws, kind: &str) -> Value {
     }
 }
 
+/// How long a test waits for a message it expects: status messages keep coming, so a
+/// wait for one that never does would otherwise hang rather than fail.
+pub const WAIT: Duration = Duration::from_secs(30);
+
 /// The first message of type `kind` for which `pred` holds, skipping others.
 pub async fn wait_for(ws: &mut Ws, kind: &str, pred: impl Fn(&Value) -> bool) -> Value {
-    loop {
-        let v = next_of(ws, kind).await;
-        if pred(&v) {
-            return v;
+    wait_noting(ws, kind, pred, "").await.0
+}
+
+/// The first message of type `kind` for which `pred` holds, and the last message of type
+/// `noted` skipped on the way (a frame that came before the status that was waited for).
+pub async fn wait_noting(
+    ws: &mut Ws,
+    kind: &str,
+    pred: impl Fn(&Value) -> bool,
+    noted: &str,
+) -> (Value, Option<Value>) {
+    let mut last = None;
+    let wait = async {
+        loop {
+            let v = next(ws).await.expect("connection open");
+            if v["type"] == kind && pred(&v) {
+                return v;
+            }
+            if v["type"] == noted {
+                last = Some(v);
+            }
         }
-    }
+    };
+    let found = tokio::time::timeout(WAIT, wait)
+        .await
+        .unwrap_or_else(|_| panic!("no {kind} message as expected within {WAIT:?}"));
+    (found, last)
 }
 
 pub async fn send(ws: &mut Ws, text: &str) {
