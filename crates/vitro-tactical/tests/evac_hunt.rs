@@ -1,9 +1,14 @@
 //! The HVT hunt in the default mission: each player of the pursuit game (the hunt lead and
 //! the HVT) takes one turn at a time, at most one per `MIN_TURN` (10 s), and the hunt
-//! starts once the HVT is reported.
+//! starts once the HVT is reported; once the VIP is out the whole escort joins it, and a
+//! lead that falls silent is replaced.
 
-use vitro::time::SimTime;
+use vitro::entity::EntityId;
+use vitro::time::{SimDuration, SimTime};
+use vitro_tactical::condition::Status;
 use vitro_tactical::evac::Mission;
+use vitro_tactical::evac::agents::commander::{Commander, Phase};
+use vitro_tactical::evac::agents::trooper::{Task, Trooper};
 use vitro_tactical::scenario::Preset;
 
 const SCENARIO: &str = concat!(
@@ -106,4 +111,116 @@ fn aircraft_join_the_hunt_once_the_convoy_is_done() {
         joined_at.is_some() && aircraft >= 3,
         "{aircraft} aircraft, from {joined_at:?}"
     );
+}
+
+fn commander(m: &Mission) -> &Commander {
+    m.sim
+        .agent(m.brief.truck)
+        .and_then(|a| a.as_any().downcast_ref::<Commander>())
+        .expect("the truck's commander")
+}
+
+fn trooper(m: &Mission, id: EntityId) -> &Trooper {
+    m.sim
+        .agent(id)
+        .and_then(|a| a.as_any().downcast_ref::<Trooper>())
+        .expect("a trooper")
+}
+
+fn status(m: &Mission, id: EntityId) -> Option<Status> {
+    m.sim.env().conditions.get(id).map(|c| c.status)
+}
+
+/// The lead's turn count, if `id` leads a hunt.
+fn turns_led(m: &Mission, id: EntityId) -> Option<u32> {
+    trooper(m, id).hunt.as_ref().map(|h| h.turns)
+}
+
+#[test]
+fn the_escort_joins_the_hunt_once_the_vip_is_out() {
+    // Seed 2: the hunt starts early and outlasts the escort.
+    let mut m = Mission::at_fidelity(SCENARIO, Some(2), Preset::Discrete).expect("builds");
+    m.end = SimTime::from_secs(1500);
+    let k = m.brief.mission.hvt_pursuers as usize;
+    let mut before = None;
+    let mut t = SimTime::ZERO;
+    loop {
+        t += SimDuration::from_secs(1);
+        assert!(m.advance(t), "the run ended before the VIP was out");
+        let c = commander(&m);
+        if c.phase == Phase::Done {
+            break;
+        }
+        assert!(
+            c.hunters.len() <= k,
+            "{:?} before the VIP is out",
+            c.hunters
+        );
+        if let Some(&lead) = c.hunters.first() {
+            before = turns_led(&m, lead).or(before);
+        }
+    }
+    let before = before.expect("a hunt was on before the VIP was out");
+    assert_eq!(status(&m, m.brief.vip), Some(Status::Extracted));
+    m.advance(t + SimDuration::from_secs(60));
+    let c = commander(&m);
+    let up: Vec<EntityId> = (m.brief.team.iter().copied())
+        .filter(|&id| !c.fallen.contains(&id))
+        .collect();
+    assert!(up.len() > k, "{up:?}");
+    assert_eq!(c.hunters.len(), up.len(), "{:?} hunt, {up:?} up", c.hunters);
+    for &id in &up {
+        assert!(c.hunters.contains(&id));
+        assert_eq!(status(&m, id), Some(Status::Active), "{id:?} off the truck");
+        assert!(
+            matches!(trooper(&m, id).task, Task::Hunt(_)),
+            "{id:?} hunts"
+        );
+    }
+    // The same lead, its belief and turn count kept (a new hunt would restart at turn 0).
+    let after = turns_led(&m, c.hunters[0]).expect("the lead still leads");
+    assert!(after >= before, "turns {before} -> {after}");
+}
+
+#[test]
+fn a_silent_hunt_lead_is_replaced() {
+    let mut m = Mission::at_fidelity(SCENARIO, Some(2), Preset::Discrete).expect("builds");
+    m.end = SimTime::from_secs(1500);
+    let mut t = SimTime::ZERO;
+    let lead = loop {
+        t += SimDuration::from_secs(1);
+        assert!(m.advance(t), "the run ended before a hunt");
+        let c = commander(&m);
+        if let Some(&lead) = c.hunters.first()
+            && turns_led(&m, lead).is_some_and(|n| n >= 2)
+        {
+            break lead;
+        }
+    };
+    // The lead falls where no teammate sees it: only its silence on the radio tells.
+    m.sim
+        .env_mut()
+        .conditions
+        .update(lead, |c| c.status = Status::Down);
+    let down_at = t;
+    let mut next = None;
+    while next.is_none() && m.advance(t) {
+        t += SimDuration::from_secs(1);
+        let c = commander(&m);
+        next = (c.hunters.first().copied())
+            .filter(|&l| l != lead && turns_led(&m, l).is_some_and(|n| n >= 1));
+    }
+    let next = next.expect("another pursuer leads the hunt");
+    let took = (t - down_at).as_secs_f64();
+    println!(
+        "lead {lead:?} down at {:.0} s, {next:?} leads {took:.0} s later (seen down: {})",
+        down_at.as_secs_f64(),
+        commander(&m).fallen.contains(&lead)
+    );
+    let limit = 2.0 * 3.0 * m.brief.turn_s + 120.0;
+    assert!(
+        took <= limit,
+        "{next:?} leads {took:.0} s after the lead fell"
+    );
+    assert!(matches!(trooper(&m, next).task, Task::Hunt(_)));
 }

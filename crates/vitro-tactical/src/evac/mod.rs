@@ -296,12 +296,8 @@ fn over(w: &crate::arena::Arena, brief: &Brief) -> bool {
         Some(Status::Down) => true,
         Some(Status::Extracted) => {
             let hunted = brief.hvt.is_some_and(|h| status(h) == Some(Status::Active));
-            let k = brief.mission.hvt_pursuers as usize;
-            let hunting = brief
-                .team
-                .iter()
-                .take(k)
-                .any(|&id| status(id) == Some(Status::Active));
+            // Blue troopers still on their feet once the VIP is out are the hunt's.
+            let hunting = (brief.team.iter()).any(|&id| status(id) == Some(Status::Active));
             !(hunted && hunting)
         }
         _ => false,

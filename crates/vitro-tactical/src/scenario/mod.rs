@@ -184,7 +184,8 @@ impl FidelitySpec {
 pub struct Places {
     /// Where the team sets out.
     pub start: [f64; 2],
-    /// Where the VIP waits.
+    /// Where the truck stops for the VIP; the VIP itself waits where its `vip` entity
+    /// starts, and the escort fetches it on foot from here.
     pub safehouse: [f64; 2],
     /// Where the VIP is taken.
     pub extraction: [f64; 2],

@@ -3,6 +3,7 @@
 //! back with it, takes everybody on board, drives to the extraction point, and splits off
 //! pursuers when the high-value target is reported.
 
+use super::hunt::SILENT;
 use super::{SENSE, tell};
 use crate::actuate::MoveError;
 use crate::arena::{Ev, TrackTarget};
@@ -171,6 +172,17 @@ impl Commander {
             }
             Phase::Back => {
                 self.enter(Phase::Done, cx);
+                // The VIP is out; the escort gets off to join a hunt still on, and whoever
+                // stays aboard is extracted with the VIP.
+                if self.hunting() {
+                    let escorts = self.escorts();
+                    let out: Vec<_> = (escorts.iter())
+                        .map(|&id| (id, self.brief.troop_kind(id)))
+                        .collect();
+                    let _ = cx.act(&self.dismount, out);
+                    self.hunters.extend(escorts);
+                    self.order_hunt(cx);
+                }
                 let _ = cx.act(&Unload, ());
             }
             _ => {}
@@ -226,6 +238,14 @@ impl Commander {
             return;
         }
         let waited = self.waiting.remove(&id);
+        if self.hunters.contains(&id) {
+            // A fallen pursuer leaves the roster; if it led, the next one takes over.
+            let active = self.hunting();
+            self.hunters.retain(|&h| h != id);
+            if active && !self.hunters.is_empty() {
+                self.order_hunt(cx);
+            }
+        }
         self.reform(cx);
         if waited {
             self.all_answered(cx);
@@ -280,12 +300,28 @@ impl Commander {
         self.drive_leg(cx);
     }
 
+    /// Whether pursuers are out after the HVT, not yet captured.
+    fn hunting(&self) -> bool {
+        !self.hunters.is_empty() && !self.hunt_pending && !self.hunt_done
+    }
+
+    /// The HVT showed up: sends `hvt_pursuers` troopers after it (the whole escort once the
+    /// VIP is out).
     fn start_hunt(&mut self, cx: &mut Context<'_, Tactical>) {
         let k = self.brief.mission.hvt_pursuers as usize;
-        if !self.hunters.is_empty() || k == 0 || self.phase == Phase::Done {
+        if !self.hunters.is_empty() || k == 0 || self.hunt_done {
             return;
         }
-        self.hunters = self.brief.team.iter().copied().take(k).collect();
+        let k = if self.phase == Phase::Done {
+            usize::MAX
+        } else {
+            k
+        };
+        let fallen = &self.fallen;
+        self.hunters = (self.brief.team.iter().copied())
+            .filter(|id| !fallen.contains(id))
+            .take(k)
+            .collect();
         // Every pursuer leaves the wait (`any` would stop at the first one removed).
         let mut waited_for_hunters = false;
         for id in &self.hunters {
@@ -337,6 +373,16 @@ impl Commander {
                 let ours = |id: &EntityId| self.brief.team.contains(id) || *id == self.brief.vip;
                 if let Some(id) = id.filter(ours) {
                     self.casualty(id, cx);
+                }
+                return;
+            }
+            SILENT => {
+                // The hunt lead is silent: the next pursuer leads, the silent one (if it
+                // is still up) goes last.
+                let lead = arg.trim().parse().ok().map(EntityId);
+                if self.hunting() && lead.is_some() && self.hunters.first() == lead.as_ref() {
+                    self.hunters.rotate_left(1);
+                    self.order_hunt(cx);
                 }
                 return;
             }
@@ -423,8 +469,7 @@ impl Commander {
             .now()
             .saturating_since(self.hunt_ordered_at)
             .as_secs_f64();
-        let hunting = !self.hunters.is_empty() && !self.hunt_pending && !self.hunt_done;
-        if hunting && since_hunt >= REPEAT_S {
+        if self.hunting() && since_hunt >= REPEAT_S {
             // The pursuit order may have been lost: it is idempotent, send it again.
             self.order_hunt(cx);
         }

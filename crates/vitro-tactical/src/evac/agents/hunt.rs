@@ -31,6 +31,15 @@ use vitro_algo::pursuit::{
 /// metres), sent to the blue group every turn.
 pub const SEARCH: &str = "search";
 
+/// How many of the lead's longest turns (two mean moves each, see the trooper's turn
+/// fallback) a pursuer waits for a move from its hunt lead before it reports the lead
+/// silent: one lost order or one long move is no silence.
+pub const LEAD_SILENT_TURNS: f64 = 3.0;
+
+/// `Radio::Signal(SILENT, id)`: pursuer → truck, hunt lead `id` has sent no move for
+/// [`LEAD_SILENT_TURNS`] long turns.
+pub const SILENT: &str = "silent";
+
 /// The pursuit board shared by the hunters and the hunted: the walk graph with
 /// line-of-sight visibility between its nodes.
 pub type Board = vitro_algo::pursuit::Arena;
@@ -167,6 +176,11 @@ impl Hunt {
             over: false,
             last_seen: None,
         })
+    }
+
+    /// The pursuers from now on (the lead first): the belief stays.
+    pub fn set_team(&mut self, team: Vec<EntityId>) {
+        self.team = team;
     }
 
     /// Notes a sighting of the target (own or reported).

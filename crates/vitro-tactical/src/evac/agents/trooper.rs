@@ -3,7 +3,7 @@
 //! and — when sent after the high-value target — hunt it as a team (the first pursuer runs
 //! the search, see [`hunt`](super::hunt)).
 
-use super::hunt::{Hunt, HuntStep, TurnClock};
+use super::hunt::{Hunt, HuntStep, LEAD_SILENT_TURNS, SILENT, TurnClock};
 use super::squad::{self, Part, Squad, note};
 use super::{Reporter, SENSE, tell};
 use crate::actuate::troop::directed::MoveAndTurn;
@@ -23,7 +23,7 @@ use vitro::comm::Envelope;
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
 use vitro::sim::{Context, Input};
-use vitro::time::SimDuration;
+use vitro::time::{SimDuration, SimTime};
 
 /// Timer key of the hunt's turns.
 pub(crate) const TURN: u64 = 20;
@@ -61,6 +61,8 @@ pub struct Trooper {
     /// The hunt it leads, if it leads one.
     pub hunt: Option<Hunt>,
     hunters: Vec<EntityId>,
+    /// The lead of the hunt it is on (maybe itself), and when it last heard from it.
+    lead: Option<(EntityId, SimTime)>,
     last_order: Option<Order>,
     clock: TurnClock,
     /// The last report sent (to whom, what): repeated if the same order comes again.
@@ -89,6 +91,7 @@ impl Trooper {
             reporter: Reporter::default(),
             hunt: None,
             hunters: Vec::new(),
+            lead: None,
             last_order: None,
             clock: TurnClock::default(),
             report: None,
@@ -228,6 +231,12 @@ impl Trooper {
         cx: &mut Context<'_, Tactical>,
     ) {
         let from = env.from;
+        // Any order from the hunt lead shows it is up (repeats included).
+        if let Some((lead, heard)) = self.lead.as_mut()
+            && *lead == from
+        {
+            *heard = cx.now();
+        }
         if Some(order) == self.last_order.as_ref() && self.report.is_some() {
             // A repeated order (the first answer was lost): answer again.
             if let Some((to, what)) = self.report {
@@ -237,7 +246,10 @@ impl Trooper {
         }
         self.last_order = Some(order.clone());
         self.report = None;
-        if matches!(self.task, Task::Hunt(_)) && !matches!(order, Order::GoTo(_)) {
+        // A hunter takes only its moves and new rosters of its hunt.
+        if matches!(self.task, Task::Hunt(_))
+            && !matches!(order, Order::GoTo(_) | Order::Pursue { .. })
+        {
             return;
         }
         let hunting = matches!(self.task, Task::Hunt(_));
@@ -277,13 +289,26 @@ impl Trooper {
                 self.try_board(cx);
             }
             Order::Pursue { target, team } => {
-                self.leave_squad(true, cx);
-                self.task = Task::Hunt(*target);
+                // A new roster of the hunt it is on (pursuers joined, or one fell): the
+                // lead keeps its belief; a new lead starts the turns.
+                let same_hunt = self.task == Task::Hunt(*target);
+                if !same_hunt {
+                    self.leave_squad(true, cx);
+                    self.task = Task::Hunt(*target);
+                    self.hunt = None;
+                }
                 self.hunters = team.iter().copied().filter(|&id| id != cx.me()).collect();
-                if team.first() == Some(&cx.me()) {
-                    let hunt = Hunt::new(self.brief.clone(), *target, team.clone());
-                    self.hunt = hunt;
-                    cx.set_timer(SimDuration::ZERO, TURN);
+                let lead = team.first().copied();
+                if self.lead.map(|(l, _)| l) != lead {
+                    self.lead = lead.map(|l| (l, cx.now()));
+                }
+                if team.first() != Some(&cx.me()) {
+                    self.hunt = None;
+                } else if let Some(hunt) = self.hunt.as_mut() {
+                    hunt.set_team(team.clone());
+                } else {
+                    self.hunt = Hunt::new(self.brief.clone(), *target, team.clone());
+                    self.clock.next_in(SimDuration::ZERO, TURN, cx);
                 }
             }
             Order::Hold => {
@@ -431,6 +456,7 @@ impl Trooper {
         if let Some(s) = self.squad.as_mut() {
             s.watch(&self.brief, cx);
         }
+        self.check_lead(cx);
         if matches!(self.task, Task::Board(_)) {
             self.try_board(cx);
         }
@@ -451,6 +477,25 @@ impl Trooper {
             }
         }
         cx.set_timer(self.period(), SENSE);
+    }
+
+    /// A pursuer whose hunt lead has sent no move for [`LEAD_SILENT_TURNS`] long turns tells the truck (at
+    /// most once per that time): the lead may be down unseen, or out of radio reach.
+    fn check_lead(&mut self, cx: &mut Context<'_, Tactical>) {
+        let me = cx.me();
+        let now = cx.now();
+        if !matches!(self.task, Task::Hunt(_)) {
+            return;
+        }
+        let Some((lead, heard)) = self.lead.as_mut() else {
+            return;
+        };
+        let silent = SimDuration::from_secs_f64(LEAD_SILENT_TURNS * 2.0 * self.brief.turn_s);
+        if *lead != me && now.saturating_since(*heard) >= silent {
+            *heard = now;
+            let msg = Radio::Signal(SILENT.into(), lead.0.to_string());
+            tell(cx, self.brief.truck, msg);
+        }
     }
 
     /// The other pursuers (all but me) of the hunt I am on.
