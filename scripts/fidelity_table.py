@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The default mission at each fidelity level over many seeds: success rate and mean time to
-extraction per level, as a Markdown table (and the raw rows as CSV).
+extraction per level, as a Markdown table (and the raw rows as CSV). With `--until 3600`
+(the whole hour) its HVT columns measure the hunt.
 
     cargo build --release -p vitro-cli
     python3 scripts/fidelity_table.py [--seeds 100] [--levels discrete,interpolated,physical]
@@ -41,8 +42,8 @@ def main():
     errors = [r for r in rows if "error" in r]
     for e in errors:
         print(f"run {e['level']} seed {e['seed']} failed: {e['error']}", file=sys.stderr)
-    print("| level | runs | success rate (95% CI) | mean time to extraction, s (sd) | casualties / run | HVT captured | sim s per wall s |")
-    print("|---|---|---|---|---|---|---|")
+    print("| level | runs | success rate (95% CI) | mean time to extraction, s (sd) | casualties / run | HVT captured | mean capture time, s | sim s per wall s |")
+    print("|---|---|---|---|---|---|---|---|")
     for l in levels:
         rs = [r for r in rows if r["level"] == l and "error" not in r]
         if not rs:
@@ -55,8 +56,10 @@ def main():
         mt = f"{statistics.mean(t):.1f} ({statistics.pstdev(t):.1f})" if t else "-"
         cas = statistics.mean(r["casualties"] for r in rs)
         hvt = sum(1 for r in rs if r["hvt_captured"]) / n
+        ct = [r["hvt_capture_s"] for r in rs if r["hvt_captured"] and r.get("hvt_capture_s")]
+        mct = f"{statistics.mean(ct):.0f}" if ct else "-"
         speed = statistics.median(r["sim_s_per_wall_s"] for r in rs)
-        print(f"| {l} | {n} | {p:.2f} ± {h:.2f} | {mt} | {cas:.2f} | {hvt:.2f} | {speed:.0f} |")
+        print(f"| {l} | {n} | {p:.2f} ± {h:.2f} | {mt} | {cas:.2f} | {hvt:.2f} | {mct} | {speed:.0f} |")
     if a.out:
         keys = ["level", "seed", "success", "time_to_extraction_s", "casualties",
                 "adversaries_detected", "time_uncovered_s", "hvt_captured", "messages_sent",
