@@ -97,3 +97,51 @@ fn directed_troopers_arrive_near_the_discrete_estimate_and_stay_free() {
         }
     }
 }
+
+#[test]
+fn a_directed_trip_starts_where_the_body_stands() {
+    // A body steered off its last node (by MoveAndTurn alone, as a formation slot does)
+    // starts its next trip from the walk node nearest it, not from the stale last node:
+    // it takes as long as a trooper that started there, not the whole way.
+    let (a, b) = trip();
+    let (site, roads) = town();
+    let path = roads.walk.path(a, b).unwrap();
+    let m = path[path.len() / 2];
+    let at_m = site
+        .street_point(vitro_tactical::map::Mode::Walk, m)
+        .unwrap();
+    let trip_time = |start: NodeId, moved: Option<[f64; 3]>| {
+        let mut s = sim(5);
+        let id = s
+            .add_agent(
+                "trooper",
+                Box::new(VisitNodes::new(vec![b], directed::WalkToNode)),
+            )
+            .unwrap();
+        s.env_mut()
+            .add_trooper(id, TroopKind::Blue, Level::Directed, start, 0.0)
+            .unwrap();
+        if let Some(p) = moved {
+            s.env_mut().walkers.update(id, |w| w.pos = p);
+        }
+        common::start(&mut s, id);
+        record(&mut s, id, SimTime::from_secs(4 * 3600));
+        let v = s
+            .agent(id)
+            .and_then(|c| {
+                c.as_any()
+                    .downcast_ref::<VisitNodes<directed::WalkToNode>>()
+            })
+            .unwrap();
+        assert_eq!(v.error, None);
+        v.log.last().map(|l| l.0.as_secs_f64()).expect("it arrived")
+    };
+    let whole = trip_time(a, None);
+    let from_m = trip_time(m, None);
+    let steered = trip_time(a, Some(at_m));
+    assert!(from_m < 0.8 * whole, "{from_m} s of {whole} s");
+    assert!(
+        (steered - from_m).abs() <= 0.05 * from_m + 10.0,
+        "steered to the middle: {steered} s; from the middle {from_m} s, the whole way {whole} s"
+    );
+}

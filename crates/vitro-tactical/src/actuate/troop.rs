@@ -36,7 +36,9 @@ pub mod directed {
     use crate::arena::{Arena, Clock, Ev};
     use crate::entity::discrete::NodeKind;
     use crate::entity::route::Follow;
-    use crate::entity::troop::StepCmd;
+    use crate::entity::troop::{StepCmd, Walker};
+    use crate::geo::dist;
+    use crate::map::Mode;
     use vitro::entity::EntityId;
     use vitro::env::{Actuator, Effects, NodeId};
 
@@ -82,11 +84,12 @@ pub mod directed {
             if w.follow.contains(me) {
                 return Err(MoveError::UnderWay(me));
             }
-            if b.node == goal {
+            let from = start_node(w, b);
+            if from == goal {
                 arrived(me, goal, fx);
                 return Ok(());
             }
-            let (kind, from) = (NodeKind::Troop(b.kind), b.node);
+            let kind = NodeKind::Troop(b.kind);
             let track = plan(w, kind, from, goal)?;
             w.follow.insert(
                 me,
@@ -100,6 +103,24 @@ pub mod directed {
             w.wake(Clock::Kinematic, fx);
             Ok(())
         }
+    }
+
+    /// How far a body may stand from its last node before a new trip starts from the node
+    /// nearest it instead, metres.
+    const OFF_NODE_M: f64 = 3.0;
+
+    /// The node a new trip starts from: the last node the body passed, or — if
+    /// [`MoveAndTurn`] alone has steered it away since (a formation slot) — the connected
+    /// walk node nearest it.
+    fn start_node(w: &Arena, b: &Walker) -> NodeId {
+        let here = [b.pos[0], b.pos[1]];
+        let at = w.site.street_point(Mode::Walk, b.node);
+        if at.is_some_and(|p| dist([p[0], p[1]], here) <= OFF_NODE_M) {
+            return b.node;
+        }
+        (w.roads.of(Mode::Walk))
+            .nearest_connected(w.site.to_town(here))
+            .unwrap_or(b.node)
     }
 
     /// One kinematic step of every directed trooper on a trip, and of every one driven by
