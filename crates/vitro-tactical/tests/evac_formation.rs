@@ -3,13 +3,15 @@
 //! interpolated levels the squad keeps its slots, changes formation with what it sees, takes
 //! the VIP in, and the VIP is extracted; a leader shot down mid-walk is replaced.
 
+mod common;
+
+use common::{commander, trooper};
 use std::collections::{BTreeMap, BTreeSet};
 use vitro::entity::EntityId;
 use vitro::time::SimTime;
 use vitro_tactical::condition::Status;
 use vitro_tactical::evac::Mission;
-use vitro_tactical::evac::agents::commander::{Commander, Phase};
-use vitro_tactical::evac::agents::trooper::Trooper;
+use vitro_tactical::evac::agents::commander::Phase;
 use vitro_tactical::formation::{Switch, TrackPoint};
 use vitro_tactical::scenario::{EntityType, FidelitySpec, Preset, ScenarioFile};
 
@@ -34,20 +36,6 @@ fn mission(preset: Preset, vip: [f64; 2]) -> Mission {
         }
     }
     Mission::build(v, None).expect("the mission builds")
-}
-
-fn commander(m: &Mission) -> &Commander {
-    m.sim
-        .agent(m.brief.truck)
-        .and_then(|a| a.as_any().downcast_ref::<Commander>())
-        .expect("the truck's commander")
-}
-
-fn trooper(m: &Mission, id: EntityId) -> &Trooper {
-    m.sim
-        .agent(id)
-        .and_then(|a| a.as_any().downcast_ref::<Trooper>())
-        .expect("a trooper")
 }
 
 /// The blue troopers and the VIP.

@@ -3,12 +3,15 @@
 //! starts once the HVT is reported; once the VIP is out the whole escort joins it, and a
 //! lead that falls silent is replaced.
 
+mod common;
+
+use common::{commander, trooper};
 use vitro::entity::EntityId;
 use vitro::time::{SimDuration, SimTime};
 use vitro_tactical::condition::Status;
 use vitro_tactical::evac::Mission;
-use vitro_tactical::evac::agents::commander::{Commander, Phase};
-use vitro_tactical::evac::agents::trooper::{Task, Trooper};
+use vitro_tactical::evac::agents::commander::Phase;
+use vitro_tactical::evac::agents::trooper::Task;
 use vitro_tactical::scenario::Preset;
 
 const SCENARIO: &str = concat!(
@@ -111,20 +114,6 @@ fn aircraft_join_the_hunt_once_the_convoy_is_done() {
         joined_at.is_some() && aircraft >= 3,
         "{aircraft} aircraft, from {joined_at:?}"
     );
-}
-
-fn commander(m: &Mission) -> &Commander {
-    m.sim
-        .agent(m.brief.truck)
-        .and_then(|a| a.as_any().downcast_ref::<Commander>())
-        .expect("the truck's commander")
-}
-
-fn trooper(m: &Mission, id: EntityId) -> &Trooper {
-    m.sim
-        .agent(id)
-        .and_then(|a| a.as_any().downcast_ref::<Trooper>())
-        .expect("a trooper")
 }
 
 fn status(m: &Mission, id: EntityId) -> Option<Status> {

@@ -6,6 +6,9 @@ use std::sync::{Arc, OnceLock};
 use vitro::prelude::*;
 use vitro_tactical::arena::{Arena, Ev};
 use vitro_tactical::entity::roads::Roads;
+use vitro_tactical::evac::Mission;
+use vitro_tactical::evac::agents::commander::Commander;
+use vitro_tactical::evac::agents::trooper::Trooper;
 use vitro_tactical::map::{MapConfig, TownMap};
 use vitro_tactical::model::Tactical;
 use vitro_tactical::site::{Site, SiteConfig};
@@ -65,4 +68,20 @@ pub fn record(sim: &mut Simulation<Tactical>, id: EntityId, end: SimTime) -> Sam
 pub fn start(sim: &mut Simulation<Tactical>, id: EntityId) {
     sim.schedule(sim.now(), Target::Entity(id), Ev::Start)
         .unwrap();
+}
+
+/// The truck's commander in a mission.
+pub fn commander(m: &Mission) -> &Commander {
+    m.sim
+        .agent(m.brief.truck)
+        .and_then(|a| a.as_any().downcast_ref::<Commander>())
+        .expect("the truck's commander")
+}
+
+/// The controller of trooper (or VIP) `id` in a mission.
+pub fn trooper(m: &Mission, id: EntityId) -> &Trooper {
+    m.sim
+        .agent(id)
+        .and_then(|a| a.as_any().downcast_ref::<Trooper>())
+        .expect("a trooper")
 }
