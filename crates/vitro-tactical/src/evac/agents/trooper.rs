@@ -479,8 +479,9 @@ impl Trooper {
         cx.set_timer(self.period(), SENSE);
     }
 
-    /// A pursuer whose hunt lead has sent no move for [`LEAD_SILENT_TURNS`] long turns tells the truck (at
-    /// most once per that time): the lead may be down unseen, or out of radio reach.
+    /// A pursuer whose hunt lead has sent no move for [`LEAD_SILENT_TURNS`] long turns
+    /// tells the truck (at most once per that time): the lead may be down unseen, or out of
+    /// radio reach.
     fn check_lead(&mut self, cx: &mut Context<'_, Tactical>) {
         let me = cx.me();
         let now = cx.now();
