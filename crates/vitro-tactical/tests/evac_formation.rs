@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{commander, trooper};
+use common::{commander, pct, trooper};
 use std::collections::{BTreeMap, BTreeSet};
 use vitro::entity::EntityId;
 use vitro::time::SimTime;
@@ -128,14 +128,6 @@ fn watch(m: &mut Mission, end: u64, mut hook: impl FnMut(&mut Mission, &Seen)) -
         hook(m, &seen);
     }
     seen
-}
-
-fn pct(v: &[f64], q: f64) -> f64 {
-    let mut v = v.to_vec();
-    v.sort_by(f64::total_cmp);
-    v.get(((v.len().max(1) - 1) as f64 * q).round() as usize)
-        .copied()
-        .unwrap_or(f64::NAN)
 }
 
 #[test]

@@ -3,6 +3,9 @@
 //! ground and contact, never stands in a forbidden zone, and copes with members that lose
 //! their body, get stuck, leave or join. Every run is bounded in simulated and in wall time.
 
+mod common;
+
+use common::pct;
 use std::sync::OnceLock;
 use std::time::Instant;
 use vitro::prelude::*;
@@ -45,15 +48,6 @@ fn xy(p: [f64; 3]) -> P2 {
 
 fn dist(a: P2, b: P2) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
-/// Percentile `q` (0..=1) of `v`.
-fn pct(v: &[f64], q: f64) -> f64 {
-    let mut v = v.to_vec();
-    v.sort_by(f64::total_cmp);
-    v.get(((v.len().max(1) - 1) as f64 * q).round() as usize)
-        .copied()
-        .unwrap_or(f64::NAN)
 }
 
 /// The across-town trip: from the standard walking trip's start, across the open valley

@@ -85,3 +85,12 @@ pub fn trooper(m: &Mission, id: EntityId) -> &Trooper {
         .and_then(|a| a.as_any().downcast_ref::<Trooper>())
         .expect("a trooper")
 }
+
+/// Percentile `q` (0..=1) of `v` (NaN if `v` is empty).
+pub fn pct(v: &[f64], q: f64) -> f64 {
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    v.get(((v.len().max(1) - 1) as f64 * q).round() as usize)
+        .copied()
+        .unwrap_or(f64::NAN)
+}
