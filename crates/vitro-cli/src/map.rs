@@ -4,12 +4,12 @@ use crate::Failure;
 use anyhow::{Context as _, anyhow};
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
-use vitro_tactical::info::map_info;
-use vitro_tactical::map::{MapConfig, TownMap};
-use vitro_tactical::render::{RenderOptions, render_site};
-use vitro_tactical::site::{Site, SiteConfig};
-use vitro_tactical::terrain::{Terrain, TerrainError};
-use vitro_tactical::viewshed::{ViewshedError, viewshed_file};
+use vitro_site::info::map_info;
+use vitro_site::map::{MapConfig, TownMap};
+use vitro_site::render::{RenderOptions, render_site};
+use vitro_site::site::{Site, SiteConfig};
+use vitro_site::terrain::{Terrain, TerrainError};
+use vitro_site::viewshed::{ViewshedError, viewshed_file};
 
 #[derive(Debug, Subcommand)]
 pub(crate) enum MapCommand {

@@ -10,8 +10,8 @@ use std::io::IsTerminal;
 use std::path::Path;
 use std::time::Instant;
 use vitro::time::{SimDuration, SimTime};
-use vitro_tactical::evac::referee::Metrics;
-use vitro_tactical::evac::{Mission, MissionError};
+use vitro_evac::referee::Metrics;
+use vitro_evac::{Mission, MissionError};
 use vitro_tactical::scenario::Preset;
 
 /// True if the file at `path` looks like a mission scenario (it has `[site]` or

@@ -3,7 +3,7 @@
 
 use anyhow::Context as _;
 use std::path::Path;
-use vitro_tactical::evac::Mission;
+use vitro_evac::Mission;
 
 /// A recording under way.
 pub(crate) struct Recording {

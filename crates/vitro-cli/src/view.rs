@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use vitro::time::SimTime;
 use vitro_demo::Scenario;
 use vitro_demo::config::{ConfigError, DemoConfig, MAX_END_S};
-use vitro_tactical::evac::Mission;
+use vitro_evac::Mission;
 use vitro_tactical::scenario::ScenarioFile;
 use vitro_viz::server::{Feed, serve};
 use vitro_viz::{LiveRun, McapRecording, Outcome, ReplayFeed, ViewError};

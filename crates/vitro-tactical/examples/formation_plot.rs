@@ -13,6 +13,8 @@ use tiny_skia::{
     Color, FillRule, Paint, PathBuilder, Pixmap, PixmapPaint, Rect, Stroke, Transform,
 };
 use vitro::prelude::*;
+use vitro_site::map::Mode;
+use vitro_site::render::{Overlay, RenderOptions, render_site_with};
 use vitro_tactical::arena::Ev;
 use vitro_tactical::check::Setup;
 use vitro_tactical::check::scenario::trip;
@@ -20,16 +22,14 @@ use vitro_tactical::entity::Level;
 use vitro_tactical::formation::{
     FormationParams, LEADER_PROGRAM, Leader, Member, Pattern, Script, Switch, TrackPoint,
 };
-use vitro_tactical::map::Mode;
 use vitro_tactical::model::Tactical;
 use vitro_tactical::radio::{Order, Radio};
-use vitro_tactical::render::{Overlay, RenderOptions, render_site_with};
 use vitro_tactical::types::TroopKind;
 
 type P2 = [f64; 2];
 type Error = Box<dyn std::error::Error>;
 
-static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+static FONT: &[u8] = include_bytes!("../../vitro-site/assets/DejaVuSans.ttf");
 
 /// Colours: the leader, then the members.
 const BODY: [[u8; 4]; 4] = [

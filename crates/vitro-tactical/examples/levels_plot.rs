@@ -5,12 +5,12 @@
 //! `cargo run --release -p vitro-tactical --example levels_plot [OUT.png [X0,Y0,X1,Y1]]`
 //! (the optional window, in world metres, draws a close-up).
 
+use vitro_site::map::Mode;
+use vitro_site::render::{Overlay, RenderOptions, render_site_with};
 use vitro_tactical::check::scenario::{Drive, Fly, flight_route, trip};
 use vitro_tactical::check::{Run, Scenario, Setup};
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::air::AirKind;
-use vitro_tactical::map::Mode;
-use vitro_tactical::render::{Overlay, RenderOptions, render_site_with};
 use vitro_tactical::types::{CtolKind, GroundKind, VtolKind};
 
 fn points(run: &Run) -> Vec<[f64; 2]> {

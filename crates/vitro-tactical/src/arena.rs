@@ -23,8 +23,6 @@ use crate::entity::roads::Roads;
 use crate::entity::route::{Follow, Track};
 use crate::entity::troop::Walker;
 use crate::entity::{Level, Pose};
-use crate::map::Mode;
-use crate::site::Site;
 use crate::types::{CtolKind, GroundKind, TroopKind, TypeBook, VtolKind};
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -34,6 +32,8 @@ use vitro::env::{Effects, EntityStorage, NodeId, Probe, Sensor};
 use vitro::event::Target;
 use vitro::time::SimDuration;
 use vitro::trace::TraceHasher;
+use vitro_site::map::Mode;
+use vitro_site::site::Site;
 
 /// A fixed-step clock of the arena.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]

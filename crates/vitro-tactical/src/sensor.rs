@@ -4,12 +4,12 @@
 //! noise, `"fof"` for detection and identification draws. Candidates are examined in entity-id
 //! order, so a reading depends only on the world and the stream, never on a hasher.
 
-use crate::site::Site;
 use crate::world::{Body, Side, World};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::env::{Probe, Sensor};
+use vitro_site::site::Site;
 
 fn dist3(a: [f64; 3], b: [f64; 3]) -> f64 {
     let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];

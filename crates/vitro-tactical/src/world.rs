@@ -2,11 +2,11 @@
 //!
 //! Only sensors and actuators receive a [`World`] (the `vitro` core keeps agents away from it).
 
-use crate::site::Site;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::env::EntityStorage;
+use vitro_site::site::Site;
 
 /// Allegiance of an entity.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]

@@ -1,13 +1,13 @@
 //! The cross-level check on the real town, and its extension points.
 
 use std::collections::BTreeSet;
+use vitro_site::map::Mode;
+use vitro_site::site::Site;
 use vitro_tactical::check::scenario::{Drive, trip};
 use vitro_tactical::check::{
     CheckReport, Property, Registry, Run, Setup, Verdict, check_levels, property,
 };
 use vitro_tactical::entity::Level;
-use vitro_tactical::map::Mode;
-use vitro_tactical::site::Site;
 use vitro_tactical::types::GroundKind;
 
 fn rows_of<'a>(r: &'a CheckReport, entity: &str, level: Level) -> Vec<&'a str> {

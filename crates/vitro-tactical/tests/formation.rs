@@ -9,6 +9,7 @@ use common::pct;
 use std::sync::OnceLock;
 use std::time::Instant;
 use vitro::prelude::*;
+use vitro_site::map::Mode;
 use vitro_tactical::arena::Ev;
 use vitro_tactical::check::Setup;
 use vitro_tactical::check::scenario::trip;
@@ -18,7 +19,6 @@ use vitro_tactical::formation::{
     Arrival, FormationError, FormationParams, LEADER_PROGRAM, Leader, Member, Pattern, Script,
     Switch, TrackPoint,
 };
-use vitro_tactical::map::Mode;
 use vitro_tactical::model::{Controller, Tactical};
 use vitro_tactical::radio::{Order, Radio};
 use vitro_tactical::types::TroopKind;

@@ -2,8 +2,8 @@
 //! and the problems validation reports (every one, each at its place).
 
 use std::path::{Path, PathBuf};
+use vitro_site::map::{MapConfig, TownMap};
 use vitro_tactical::entity::Level;
-use vitro_tactical::map::{MapConfig, TownMap};
 use vitro_tactical::scenario::{
     Diagnostics, EntityType, Preset, RepairStrategy, ScenarioFile, SideSpec,
 };

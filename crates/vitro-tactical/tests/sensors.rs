@@ -5,11 +5,11 @@ use vitro::entity::EntityId;
 use vitro::env::{Probe, Sensor};
 use vitro::rng::RngStreams;
 use vitro::time::SimTime;
-use vitro_tactical::geo::Polygon;
-use vitro_tactical::map::{Building, TownMap};
+use vitro_site::geo::Polygon;
+use vitro_site::map::{Building, TownMap};
+use vitro_site::site::{Site, SiteConfig};
+use vitro_site::terrain::Terrain;
 use vitro_tactical::sensor::{FriendFoeVision, Gps, ProximityVision};
-use vitro_tactical::site::{Site, SiteConfig};
-use vitro_tactical::terrain::Terrain;
 use vitro_tactical::world::{Body, Side, World};
 
 /// A flat 1 km square with one 20 x 20 x 10 m building at the world point (500, 500).

@@ -107,9 +107,7 @@ fn a_directed_trip_starts_where_the_body_stands() {
     let (site, roads) = town();
     let path = roads.walk.path(a, b).unwrap();
     let m = path[path.len() / 2];
-    let at_m = site
-        .street_point(vitro_tactical::map::Mode::Walk, m)
-        .unwrap();
+    let at_m = site.street_point(vitro_site::map::Mode::Walk, m).unwrap();
     let trip_time = |start: NodeId, moved: Option<[f64; 3]>| {
         let mut s = sim(5);
         let id = s

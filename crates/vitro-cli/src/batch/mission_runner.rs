@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use vitro::time::SimTime;
 use vitro_batch::{RunOutput, RunSettings, Runner, SeriesRow, Value};
-use vitro_tactical::evac::Mission;
-use vitro_tactical::evac::referee::Metrics;
+use vitro_evac::Mission;
+use vitro_evac::referee::Metrics;
 use vitro_tactical::scenario::{ScenarioFile, Validated};
 
 /// Runs mission scenarios for `vitro batch`.

@@ -2,8 +2,8 @@
 
 use vitro::sim::Control;
 use vitro::time::SimTime;
+use vitro_evac::Mission;
 use vitro_record::{Frame, Scene};
-use vitro_tactical::evac::Mission;
 use vitro_viz::{LiveSource, SourceError};
 
 /// A mission run the viewer can drive.

@@ -121,7 +121,7 @@ fn schedule_hop(w: &mut Arena, me: EntityId, mut trip: Trip, fx: &mut Effects<'_
     };
     w.at_node.update(me, |b| {
         if let (Some(a), Some(c)) = (from, to) {
-            let d = crate::geo::dist([a[0], a[1]], [c[0], c[1]]);
+            let d = vitro_site::geo::dist([a[0], a[1]], [c[0], c[1]]);
             if d > 0.0 {
                 b.heading = libm::atan2(c[1] - a[1], c[0] - a[0]);
             }

@@ -37,10 +37,10 @@ pub mod directed {
     use crate::entity::discrete::NodeKind;
     use crate::entity::route::Follow;
     use crate::entity::troop::{StepCmd, Walker};
-    use crate::geo::dist;
-    use crate::map::Mode;
     use vitro::entity::EntityId;
     use vitro::env::{Actuator, Effects, NodeId};
+    use vitro_site::geo::dist;
+    use vitro_site::map::Mode;
 
     /// MoveAndTurn: face a point (at the type's turn rate) and walk towards it.
     #[derive(Copy, Clone, Debug, Default)]
@@ -178,7 +178,7 @@ pub mod directed {
             // The walking speed is along the ground; the body moves in plan.
             let (a, c) = (tr.pts[next - 1], tr.pts[next]);
             let len = tr.s[next] - tr.s[next - 1];
-            let run = crate::geo::dist([a[0], a[1]], [c[0], c[1]]);
+            let run = vitro_site::geo::dist([a[0], a[1]], [c[0], c[1]]);
             let plan = if len > 1e-9 { run / len } else { 1.0 };
             let cmd = StepCmd {
                 toward: c,
@@ -210,8 +210,8 @@ pub mod directed {
             tr.length()
         } else {
             let (a, c) = (tr.pts[next - 1], tr.pts[next]);
-            let run = crate::geo::dist([a[0], a[1]], [c[0], c[1]]);
-            let gone = crate::geo::dist([a[0], a[1]], [b.pos[0], b.pos[1]]);
+            let run = vitro_site::geo::dist([a[0], a[1]], [c[0], c[1]]);
+            let gone = vitro_site::geo::dist([a[0], a[1]], [b.pos[0], b.pos[1]]);
             let frac = if run > 1e-9 {
                 (gone / run).min(1.0)
             } else {

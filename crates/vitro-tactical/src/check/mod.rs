@@ -22,7 +22,7 @@
 //!
 //! ```no_run
 //! use vitro_tactical::check::{Property, Registry, Run, Setup, Verdict};
-//! use vitro_tactical::site::Site;
+//! use vitro_site::site::Site;
 //!
 //! /// No ground body ever climbs above 400 m.
 //! struct Below400;
@@ -45,10 +45,7 @@ pub mod scenario;
 
 use crate::entity::Level;
 use crate::entity::roads::Roads;
-use crate::map::{MapConfig, MapError, TownMap};
 use crate::model::Tactical;
-use crate::site::{Site, SiteConfig, SiteError};
-use crate::terrain::{Terrain, TerrainError};
 use crate::types::TypeBook;
 use serde::Serialize;
 use std::path::Path;
@@ -57,6 +54,9 @@ use std::time::Instant;
 use vitro::entity::EntityId;
 use vitro::sim::Simulation;
 use vitro::time::SimTime;
+use vitro_site::map::{MapConfig, MapError, TownMap};
+use vitro_site::site::{Site, SiteConfig, SiteError};
+use vitro_site::terrain::{Terrain, TerrainError};
 
 /// Why a check could not run.
 #[derive(Debug, thiserror::Error)]

@@ -2,7 +2,7 @@
 
 use super::{Family, Property, Run, Verdict};
 use crate::entity::Level;
-use crate::site::Site;
+use vitro_site::site::Site;
 
 /// The standard properties, in report order.
 pub fn standard() -> Vec<Box<dyn Property>> {
@@ -217,9 +217,9 @@ mod tests {
     }
 
     fn site() -> Site {
-        let map = crate::map::TownMap::from_buildings(vec![]);
-        let t = crate::terrain::Terrain::flat(10, 10, 10.0, 0.0).unwrap();
-        Site::new(map, t, &crate::site::SiteConfig::default()).unwrap()
+        let map = vitro_site::map::TownMap::from_buildings(vec![]);
+        let t = vitro_site::terrain::Terrain::flat(10, 10, 10.0, 0.0).unwrap();
+        Site::new(map, t, &vitro_site::site::SiteConfig::default()).unwrap()
     }
 
     #[test]

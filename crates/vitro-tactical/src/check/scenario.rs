@@ -14,8 +14,6 @@ use crate::entity::Level;
 use crate::entity::air::{AirKind, FlightCommand};
 use crate::entity::roads::FreeGraph;
 use crate::entity::route::Track;
-use crate::geo::P2;
-use crate::map::Mode;
 use crate::mission::{FlightMission, Leg, VisitNodes};
 use crate::model::{Controller, Tactical};
 use crate::types::{GroundKind, TroopKind, VtolKind};
@@ -24,6 +22,8 @@ use vitro::env::{Actuator, NodeId};
 use vitro::event::Target;
 use vitro::sim::Simulation;
 use vitro::time::SimTime;
+use vitro_site::geo::P2;
+use vitro_site::map::Mode;
 
 /// Spacing of the flight route's waypoints: junctions closer than this are skipped, metres.
 pub const WAYPOINT_SPACING: f64 = 150.0;

@@ -4,12 +4,12 @@
 //! [`Track::plan_walk`](super::route::Track::plan_walk)).
 
 use super::route::Track;
-use crate::map::Mode;
 use crate::types::{GroundKind, TroopKind};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::env::NodeId;
 use vitro::event::EventId;
+use vitro_site::map::Mode;
 
 /// What a node-level body is.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]

@@ -3,11 +3,11 @@
 //! property the cross-level check then re-checks on every concrete level), and its largest
 //! strongly connected part (where any node reaches any other).
 
-use crate::geo::{P2, dist};
-use crate::map::{Mode, StreetEdge, StreetNode};
-use crate::site::Site;
 use serde::{Deserialize, Serialize};
 use vitro::env::{GraphStorage, NodeId};
+use vitro_site::geo::{P2, dist};
+use vitro_site::map::{Mode, StreetEdge, StreetNode};
+use vitro_site::site::Site;
 
 /// Spacing used to test streets against forbidden zones, metres.
 const ZONE_PROBE: f64 = 0.5;

@@ -12,12 +12,12 @@
 //!   the grade ([`TroopParams::walking_speed`]).
 
 use super::roads::{FreeGraph, RouteError};
-use crate::geo::dist;
-use crate::site::Site;
 use crate::types::{GroundType, SpeedLimits, TroopParams};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::env::NodeId;
+use vitro_site::geo::dist;
+use vitro_site::site::Site;
 
 /// Largest spacing of track points, metres.
 pub const TRACK_STEP: f64 = 1.0;

@@ -4,10 +4,10 @@
 //! facing more than 90° away), so corners cost the time of the turn.
 
 use super::route::wrap_angle;
-use crate::geo::dist;
 use crate::types::TroopKind;
 use serde::{Deserialize, Serialize};
 use vitro::env::NodeId;
+use vitro_site::geo::dist;
 
 /// What MoveAndTurn asks: face `toward` and walk at `speed`.
 #[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]

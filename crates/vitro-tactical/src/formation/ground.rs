@@ -3,9 +3,9 @@
 
 use super::FormationParams;
 use super::sense::SideClearance;
-use crate::geo::{P2, dist};
 use crate::model::Tactical;
 use vitro::sim::Context;
+use vitro_site::geo::{P2, dist};
 
 /// Where the leader probes the ground, metres ahead along its route.
 pub const PROBES: [f64; 4] = [0.0, 5.0, 10.0, 15.0];

@@ -11,7 +11,6 @@ use super::{FormationError, FormationParams};
 use crate::arena::{Ev, OwnPose, TrackTarget};
 use crate::entity::route::wrap_angle;
 use crate::entity::{Level, Pose};
-use crate::geo::{P2, dist};
 use crate::model::{Controller, Tactical};
 use crate::radio::{Order, Radio};
 use crate::world::Side;
@@ -21,6 +20,7 @@ use vitro::protocol::TimerTag;
 use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
 use vitro_algo::rules::Interpreter;
+use vitro_site::geo::{P2, dist};
 
 mod modules;
 mod orders;

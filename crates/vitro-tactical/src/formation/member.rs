@@ -10,7 +10,6 @@ use super::{FormationError, FormationParams, MEMBER_PROGRAM};
 mod briefing;
 use crate::arena::{Ev, OwnPose, TrackTarget};
 use crate::entity::{Level, Pose};
-use crate::geo::{P2, dist};
 use crate::model::{Controller, Tactical};
 use crate::radio::Radio;
 use crate::world::Side;
@@ -21,6 +20,7 @@ use vitro::protocol::TimerTag;
 use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
 use vitro_algo::rules::{Bindings, Interpreter, KbError, ModuleSet, Query, Term, Update};
+use vitro_site::geo::{P2, dist};
 
 /// The member's modules and their update operations.
 const MODULES: Signature = &[

@@ -14,7 +14,7 @@
 //! across it, so that a file turns corners the way the leader did; a slot abreast is
 //! measured from the leader's heading, or from the bearing to the threat in contact
 //! ([`slot_point`]). Obstacles ([`sense::FreeSlot`]): a slot in a forbidden zone moves to the
-//! nearest free point ([`Site::nearest_free`](crate::site::Site::nearest_free)); a slot that
+//! nearest free point ([`Site::nearest_free`](vitro_site::site::Site::nearest_free)); a slot that
 //! is behind an obstacle as seen from the point of the leader's way it is measured from
 //! (moved or not) is pulled in to the last free point before the obstacle, so that members
 //! stay on the leader's side of houses; where there is room, a slot is kept 0.3 m off zone

@@ -6,10 +6,10 @@ use crate::actuate::MoveError;
 use crate::actuate::troop::{directed::MoveAndTurn, discrete::WalkToNode};
 use crate::entity::troop::StepCmd;
 use crate::entity::{Level, Pose};
-use crate::geo::{P2, dist};
 use crate::model::Tactical;
 use vitro::env::NodeId;
 use vitro::sim::Context;
+use vitro_site::geo::{P2, dist};
 
 /// The (x, y) of a pose.
 pub(crate) fn xy(p: &Pose) -> P2 {

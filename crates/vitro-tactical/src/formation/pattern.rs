@@ -1,7 +1,7 @@
 //! Formation patterns, the leader's trail, and where each member's slot is.
 
-use crate::geo::{P2, dist};
 use serde::{Deserialize, Serialize};
+use vitro_site::geo::{P2, dist};
 
 /// A formation pattern.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]

@@ -2,9 +2,9 @@
 //! carried out.
 
 use super::pattern::Pattern;
-use crate::geo::P2;
 use vitro::entity::EntityId;
 use vitro::time::SimTime;
+use vitro_site::geo::P2;
 
 /// One logged position.
 #[derive(Clone, Debug, PartialEq)]

@@ -15,10 +15,10 @@
 use crate::arena::Arena;
 use crate::entity::discrete::NodeKind;
 use crate::entity::route::Track;
-use crate::geo::{P2, dist};
 use crate::types::TroopKind;
 use vitro::entity::EntityId;
 use vitro::env::{NodeId, Probe, Sensor};
+use vitro_site::geo::{P2, dist};
 
 /// Spacing of the probes along a straight way, metres. A way that clips the rounded corner
 /// of a zone's buffer (radius ≥ 1 m) between two probes enters it by at most

@@ -6,9 +6,9 @@
 use super::load::Loaded;
 use super::span::{Diagnostic, SourceMap};
 use super::{EntityType, ScenarioFile, SideSpec, VisionSpec};
-use crate::site::Site;
 use std::collections::BTreeMap;
 use std::path::Path;
+use vitro_site::site::Site;
 
 /// Largest end time, seconds.
 pub const MAX_END_S: f64 = 1e6;

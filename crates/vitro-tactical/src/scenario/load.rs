@@ -10,14 +10,14 @@ use super::{
     ChannelSpec, EndSpec, EntitySpec, FidelitySpec, FormationSpec, MissionSpec, PatrolSpec, Places,
     PursuitSpec, RecordSpec, RepairSpec, ScenarioFile, SensorsSpec, SiteSpec,
 };
-use crate::map::{MapConfig, TownMap};
-use crate::site::{Site, SiteConfig};
-use crate::terrain::Terrain;
 use serde::Deserialize as _;
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 use toml::de::{DeTable, DeValue, ValueDeserializer};
+use vitro_site::map::{MapConfig, TownMap};
+use vitro_site::site::{Site, SiteConfig};
+use vitro_site::terrain::Terrain;
 
 /// The keys of a scenario file's top level, in the order of [`ScenarioFile`]'s fields.
 pub const TOP_LEVEL_KEYS: [&str; 15] = [

@@ -4,15 +4,12 @@
 
 use std::sync::{Arc, OnceLock};
 use vitro::prelude::*;
+use vitro_site::map::{MapConfig, TownMap};
+use vitro_site::site::{Site, SiteConfig};
+use vitro_site::terrain::Terrain;
 use vitro_tactical::arena::{Arena, Ev};
 use vitro_tactical::entity::roads::Roads;
-use vitro_tactical::evac::Mission;
-use vitro_tactical::evac::agents::commander::Commander;
-use vitro_tactical::evac::agents::trooper::Trooper;
-use vitro_tactical::map::{MapConfig, TownMap};
 use vitro_tactical::model::Tactical;
-use vitro_tactical::site::{Site, SiteConfig};
-use vitro_tactical::terrain::Terrain;
 use vitro_tactical::types::TypeBook;
 
 /// Kotka on the valley terrain, with its free street graphs.
@@ -68,22 +65,6 @@ pub fn record(sim: &mut Simulation<Tactical>, id: EntityId, end: SimTime) -> Sam
 pub fn start(sim: &mut Simulation<Tactical>, id: EntityId) {
     sim.schedule(sim.now(), Target::Entity(id), Ev::Start)
         .unwrap();
-}
-
-/// The truck's commander in a mission.
-pub fn commander(m: &Mission) -> &Commander {
-    m.sim
-        .agent(m.brief.truck)
-        .and_then(|a| a.as_any().downcast_ref::<Commander>())
-        .expect("the truck's commander")
-}
-
-/// The controller of trooper (or VIP) `id` in a mission.
-pub fn trooper(m: &Mission, id: EntityId) -> &Trooper {
-    m.sim
-        .agent(id)
-        .and_then(|a| a.as_any().downcast_ref::<Trooper>())
-        .expect("a trooper")
 }
 
 /// Percentile `q` (0..=1) of `v` (NaN if `v` is empty).

@@ -112,7 +112,7 @@ fn step_one(w: &mut Arena, id: EntityId, dt: f64, fx: &mut Effects<'_, Ev>) -> b
     };
     b.cmd = Some(cmd);
     let i = tr.index_at(s).min(tr.pts.len().saturating_sub(2));
-    let run = crate::geo::dist(
+    let run = vitro_site::geo::dist(
         [tr.pts[i][0], tr.pts[i][1]],
         [tr.pts[i + 1][0], tr.pts[i + 1][1]],
     );
@@ -150,8 +150,8 @@ fn step_one(w: &mut Arena, id: EntityId, dt: f64, fx: &mut Effects<'_, Ev>) -> b
     } else {
         // Distance along the track: the fraction of the current piece covered in plan.
         let (a, c) = (tr.pts[next - 1], tr.pts[next]);
-        let run = crate::geo::dist([a[0], a[1]], [c[0], c[1]]);
-        let gone = crate::geo::dist([a[0], a[1]], [b.pos[0], b.pos[1]]);
+        let run = vitro_site::geo::dist([a[0], a[1]], [c[0], c[1]]);
+        let gone = vitro_site::geo::dist([a[0], a[1]], [b.pos[0], b.pos[1]]);
         let frac = if run > 1e-9 {
             (gone / run).min(1.0)
         } else {

@@ -10,10 +10,10 @@ use crate::entity::discrete::NodeKind;
 use crate::entity::ground::interpolated::MoveCmd;
 use crate::entity::ground::physical::Controls;
 use crate::entity::route::{Follow, Track, wrap_angle};
-use crate::geo::{P2, closest_on_segment, dist};
 use crate::types::{G, RHO_AIR};
 use vitro::entity::EntityId;
 use vitro::env::{Actuator, Effects, NodeId};
+use vitro_site::geo::{P2, closest_on_segment, dist};
 
 /// Speed kept until the end of a trip is near, m/s.
 const CREEP: f64 = 1.0;

@@ -4,10 +4,10 @@
 //! [`GroundType::accel_limit`](crate::types::GroundType::accel_limit); braking at
 //! `max_decel`). GoToNode feeds it the street polyline point by point.
 
-use crate::geo::dist;
 use crate::types::{GroundKind, GroundType};
 use serde::{Deserialize, Serialize};
 use vitro::env::NodeId;
+use vitro_site::geo::dist;
 
 /// What MoveInDirection asks: head for `toward` and reach `speed`.
 #[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -16,7 +16,6 @@
 //! [`Chassis`] is the storage row: a copy of the body's state after each step (position,
 //! velocity, acceleration, attitude and rates), which sensors read and the trace digests.
 
-use crate::site::Site;
 use crate::types::{G, GroundKind, GroundType, RHO_AIR};
 use rapier3d::control::{DynamicRayCastVehicleController, WheelTuning};
 use rapier3d::prelude::*;
@@ -24,6 +23,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
+use vitro_site::site::Site;
 
 /// Suspension travel at rest, metres.
 const REST_LENGTH: f32 = 0.3;

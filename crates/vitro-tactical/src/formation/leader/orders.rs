@@ -7,12 +7,12 @@ use crate::arena::OwnPose;
 use crate::entity::Level;
 use crate::formation::motion::{Follow, xy};
 use crate::formation::sense::{Leg, WalkRoute};
-use crate::geo::P2;
 use crate::model::Tactical;
 use crate::radio::Radio;
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;
 use vitro::sim::Context;
+use vitro_site::geo::P2;
 
 /// Tells `id` it is no longer in the squad.
 pub(super) fn dismiss(cx: &mut Context<'_, Tactical>, id: EntityId) {

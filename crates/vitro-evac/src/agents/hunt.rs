@@ -1,0 +1,284 @@
+//! The hunt for the high-value target: the pursuit–evasion game of
+//! [`vitro_algo::pursuit`] played on the town's walk graph, turn by turn, in the simulator.
+//!
+//! The lead pursuer keeps the team's information set about the target (a [`Belief`] over
+//! walk-graph nodes): every turn it spreads the belief one step, then applies what the team
+//! saw since the last turn (a sighting — its own or a contact report — collapses it; no
+//! sighting removes every node the pursuers see). It then runs the configured anytime
+//! search (MCTS or iterative-deepening minimax, with an iteration budget, charged as
+//! simulated thinking time) and orders each pursuer to its next node.
+//! The target does the same on its side ([`super::red::Hvt`]).
+
+use crate::brief::{BLUE, Brief};
+use std::sync::Arc;
+use vitro::comm::{Address, Outgoing};
+use vitro::entity::EntityId;
+use vitro::env::NodeId;
+use vitro::event::EventId;
+use vitro::sim::Context;
+use vitro::time::{SimDuration, SimTime};
+use vitro_algo::pursuit::{
+    Belief, Budget, EvaderStrategy, EvaderView, Mcts, MctsConfig, Minimax, MinimaxConfig,
+    PursuerStrategy, PursuerView,
+};
+use vitro_site::map::Mode;
+use vitro_tactical::arena::TrackTarget;
+use vitro_tactical::model::Tactical;
+use vitro_tactical::radio::Radio;
+use vitro_tactical::scenario::{PursuitAlgorithm, PursuitSpec};
+
+/// `Radio::Signal(SEARCH, "x y")`: the hunt lead's most likely place of the target (world
+/// metres), sent to the blue group every turn.
+pub const SEARCH: &str = "search";
+
+/// How many of the lead's longest turns (two mean moves each, see the trooper's turn
+/// fallback) a pursuer waits for a move from its hunt lead before it reports the lead
+/// silent: one lost order or one long move is no silence.
+pub const LEAD_SILENT_TURNS: f64 = 3.0;
+
+/// `Radio::Signal(SILENT, id)`: pursuer → truck, hunt lead `id` has sent no move for
+/// [`LEAD_SILENT_TURNS`] long turns.
+pub const SILENT: &str = "silent";
+
+/// The pursuit board shared by the hunters and the hunted: the walk graph with
+/// line-of-sight visibility between its nodes.
+pub type Board = vitro_algo::pursuit::Arena;
+
+/// One of the two searches, for either side.
+#[derive(Clone, Debug)]
+pub enum Search {
+    /// Information-set Monte-Carlo tree search.
+    Mcts(Mcts),
+    /// Iterative-deepening minimax over sampled determinizations.
+    Minimax(Minimax),
+}
+
+impl Search {
+    /// The search `spec` asks for, with its iteration budget.
+    pub fn new(spec: &PursuitSpec) -> Search {
+        let budget = Budget::iterations(u64::from(spec.budget.max(1)));
+        match spec.algorithm {
+            PursuitAlgorithm::Mcts => Search::Mcts(Mcts::new(MctsConfig {
+                budget,
+                horizon: spec.horizon.max(1),
+                ..MctsConfig::default()
+            })),
+            PursuitAlgorithm::Minimax => Search::Minimax(Minimax::new(MinimaxConfig {
+                budget,
+                ..MinimaxConfig::default()
+            })),
+        }
+    }
+    /// The pursuers' joint move.
+    pub fn pursue(
+        &mut self,
+        view: &PursuerView<'_>,
+        rng: &mut rand_chacha::ChaCha8Rng,
+    ) -> Vec<usize> {
+        match self {
+            Search::Mcts(s) => PursuerStrategy::choose(s, view, rng),
+            Search::Minimax(s) => PursuerStrategy::choose(s, view, rng),
+        }
+    }
+    /// The evader's move.
+    pub fn evade(&mut self, view: &EvaderView<'_>, rng: &mut rand_chacha::ChaCha8Rng) -> usize {
+        match self {
+            Search::Mcts(s) => EvaderStrategy::choose(s, view, rng),
+            Search::Minimax(s) => EvaderStrategy::choose(s, view, rng),
+        }
+    }
+    /// Its name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Search::Mcts(_) => "MCTS",
+            Search::Minimax(_) => "minimax",
+        }
+    }
+}
+
+/// The turn timer of a player of the hunt (the lead pursuer or the HVT): one pending turn
+/// at a time. A turn starts when the player's move ends (no sooner than [`MIN_TURN`] after
+/// the previous one began) or, failing an arrival, after a long fallback delay; whichever
+/// comes first replaces the other.
+#[derive(Debug, Default)]
+pub struct TurnClock {
+    pending: Option<EventId>,
+    began: SimTime,
+}
+
+impl TurnClock {
+    /// A turn begins now.
+    pub fn begin(&mut self, cx: &Context<'_, Tactical>) {
+        self.pending = None;
+        self.began = cx.now();
+    }
+    /// The next turn in `delay` (timer `key`), replacing the one pending.
+    pub fn next_in(&mut self, delay: SimDuration, key: u64, cx: &mut Context<'_, Tactical>) {
+        if let Some(id) = self.pending.take() {
+            cx.cancel(id);
+        }
+        self.pending = Some(cx.set_timer(delay, key));
+    }
+    /// The next turn after the move just ended: [`MIN_TURN`] after this one began at the
+    /// earliest.
+    pub fn after_move(&mut self, key: u64, cx: &mut Context<'_, Tactical>) {
+        let wait = MIN_TURN.saturating_sub(cx.now().saturating_since(self.began));
+        self.next_in(wait, key, cx);
+    }
+}
+
+/// Shortest time between two turns of a hunt player (a move along a short street still
+/// takes this long).
+pub const MIN_TURN: SimDuration = SimDuration::from_secs(10);
+
+/// What the lead does after a turn's bookkeeping.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum HuntStep {
+    /// The search ran; send the orders after this much thinking time.
+    Think(SimDuration),
+    /// Nothing to do (no board, or the hunt is over).
+    Over,
+}
+
+/// The lead pursuer's state.
+#[derive(Debug)]
+pub struct Hunt {
+    brief: Arc<Brief>,
+    /// Who is hunted.
+    pub target: EntityId,
+    team: Vec<EntityId>,
+    belief: Option<Belief>,
+    seen: Option<[f64; 3]>,
+    search: Search,
+    orders: Vec<(EntityId, NodeId)>,
+    /// Turns played.
+    pub turns: u32,
+    /// Set when the target was captured.
+    pub over: bool,
+    /// When the target was last seen.
+    pub last_seen: Option<SimTime>,
+}
+
+impl Hunt {
+    /// A hunt of `target` by `team` (the lead first).
+    pub fn new(brief: Arc<Brief>, target: EntityId, team: Vec<EntityId>) -> Option<Hunt> {
+        let search = Search::new(&brief.pursuit);
+        brief.board.as_ref()?;
+        Some(Hunt {
+            brief,
+            target,
+            team,
+            belief: None,
+            seen: None,
+            search,
+            orders: Vec::new(),
+            turns: 0,
+            over: false,
+            last_seen: None,
+        })
+    }
+
+    /// The pursuers from now on (the lead first): the belief stays.
+    pub fn set_team(&mut self, team: Vec<EntityId>) {
+        self.team = team;
+    }
+
+    /// Notes a sighting of the target (own or reported).
+    pub fn observe(&mut self, now: SimTime, pos: [f64; 3]) {
+        self.seen = Some(pos);
+        self.last_seen = Some(now);
+    }
+
+    /// One turn: update the belief, run the search, keep the orders.
+    pub fn turn(&mut self, cx: &mut Context<'_, Tactical>) -> HuntStep {
+        let Some(board) = self.brief.board.clone() else {
+            return HuntStep::Over;
+        };
+        if self.over {
+            return HuntStep::Over;
+        }
+        let index = |n: NodeId| n.0 as usize;
+        let mut team = Vec::new();
+        let mut at = Vec::new();
+        for &id in &self.team {
+            let pos = cx.sense(&TrackTarget(id)).map(|p| p.pos);
+            if let Some(n) = pos.and_then(|p| self.brief.walk_node(p)) {
+                team.push(id);
+                at.push(index(n));
+            }
+        }
+        if at.is_empty() {
+            return HuntStep::Over;
+        }
+        let n = board.node_count();
+        let belief = self.belief.get_or_insert_with(|| Belief::uniform(n));
+        belief.predict(&board);
+        match self.seen.take().and_then(|p| self.brief.walk_node(p)) {
+            Some(v) => belief.collapse(index(v)),
+            None => belief.exclude_seen_by(&board, &at),
+        }
+        if belief.size() == 0 {
+            *belief = Belief::uniform(n);
+        }
+        // Where the team should look: the most likely place, to every blue unit (the
+        // aircraft free of the convoy search there).
+        let likely = belief
+            .most_likely()
+            .and_then(|v| self.brief.node_point(Mode::Walk, NodeId(v as u32)));
+        if let Some(p) = likely {
+            let body = Radio::Signal(SEARCH.into(), format!("{:.1} {:.1}", p[0], p[1]));
+            cx.send(Outgoing::new(Address::Group(BLUE), body));
+        }
+        let view = PursuerView {
+            arena: &board,
+            positions: &at,
+            belief,
+            turn: self.turns,
+        };
+        let moves = self.search.pursue(&view, cx.rng("hunt"));
+        self.turns += 1;
+        self.orders = team
+            .into_iter()
+            .zip(moves)
+            .map(|(id, v)| (id, NodeId(v as u32)))
+            .collect();
+        let us = self.brief.pursuit.think_us_per_iteration * f64::from(self.brief.pursuit.budget);
+        HuntStep::Think(SimDuration::from_secs_f64(us * 1e-6))
+    }
+
+    /// The orders of the last turn: each pursuer's next node.
+    pub fn orders(&self) -> Vec<(EntityId, NodeId)> {
+        self.orders.clone()
+    }
+
+    /// One line about the hunt.
+    pub fn describe(&self) -> String {
+        let size = self.belief.as_ref().map_or(0, |b| b.size());
+        format!(
+            "lead the HVT hunt ({}, turn {}, target in {} places)",
+            self.search.name(),
+            self.turns,
+            size
+        )
+    }
+
+    /// The team's belief about the target: each possible walk node with its probability.
+    pub fn belief(&self) -> Vec<([f64; 3], f64)> {
+        let Some(b) = &self.belief else {
+            return Vec::new();
+        };
+        b.members()
+            .filter_map(|v| {
+                let p = self.brief.node_point(Mode::Walk, NodeId(v as u32))?;
+                Some((p, b.prob(v)))
+            })
+            .collect()
+    }
+
+    /// The hunt's plan: where the belief puts the target most likely.
+    pub fn plan(&self) -> Vec<String> {
+        let best = self.belief.as_ref().and_then(|b| b.most_likely());
+        best.map(|v| vec![format!("target most likely at node {v}")])
+            .unwrap_or_default()
+    }
+}

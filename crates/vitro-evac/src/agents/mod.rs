@@ -1,0 +1,67 @@
+//! The mission's agents. Each acts only through its `Context`: the sensors of
+//! [`sense`](super::sense), the actuators of [`act`](super::act) and the radio.
+
+pub mod air;
+pub mod commander;
+pub mod cover;
+pub mod hunt;
+pub mod overwatch;
+pub mod patrol;
+pub mod red;
+pub mod squad;
+pub mod trooper;
+
+use super::brief::BLUE;
+use std::collections::BTreeMap;
+use vitro::comm::{Address, Outgoing};
+use vitro::entity::EntityId;
+use vitro::sim::Context;
+use vitro::time::{SimDuration, SimTime};
+use vitro_tactical::model::Tactical;
+use vitro_tactical::radio::Radio;
+use vitro_tactical::sensor::Sighting;
+use vitro_tactical::world::Side;
+
+/// Timer key of the periodic sensing.
+pub(crate) const SENSE: u64 = 1;
+
+/// A contact is reported again only after this long.
+const REPORT_AGAIN: SimDuration = SimDuration::from_secs(30);
+
+/// Reports hostile sightings to the blue group, each target at most once per 30 s.
+#[derive(Clone, Debug, Default)]
+pub struct Reporter {
+    last: BTreeMap<EntityId, SimTime>,
+    /// Contact reports sent.
+    pub sent: u32,
+}
+
+impl Reporter {
+    /// Sends a [`Radio::Contact`] for every sighting taken for hostile not reported lately.
+    pub fn report(&mut self, sightings: &[Sighting], cx: &mut Context<'_, Tactical>) {
+        let now = cx.now();
+        for s in sightings.iter().filter(|s| s.seen_as == Side::Red) {
+            let fresh = self
+                .last
+                .get(&s.id)
+                .is_none_or(|&t| now.saturating_since(t) >= REPORT_AGAIN);
+            if fresh {
+                self.last.insert(s.id, now);
+                self.sent += 1;
+                cx.send(Outgoing::new(
+                    Address::Group(BLUE),
+                    Radio::Contact {
+                        target: s.id,
+                        pos: s.pos,
+                        seen_as: s.seen_as,
+                    },
+                ));
+            }
+        }
+    }
+}
+
+/// Sends `body` to one agent.
+pub(crate) fn tell(cx: &mut Context<'_, Tactical>, to: EntityId, body: Radio) {
+    cx.send(Outgoing::new(Address::Agent(to), body));
+}

@@ -1,0 +1,244 @@
+//! The red side: adversaries hiding in the village who fire at blue units they can see and
+//! that no drone watches over, and the high-value target, hidden until it shows up, then
+//! evading its pursuers with the configured anytime search.
+
+use super::SENSE;
+use super::hunt::Search;
+use super::hunt::TurnClock;
+use super::trooper::{DECIDED, TURN};
+use crate::act::{Fire, SetStatus, Walk};
+use crate::brief::Brief;
+use crate::sense::{Myself, Vision, Watched};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+use vitro::entity::EntityId;
+use vitro::env::NodeId;
+use vitro::sim::{Context, Input};
+use vitro::time::{SimDuration, SimTime};
+use vitro_algo::pursuit::{Belief, EvaderView};
+use vitro_site::map::Mode;
+use vitro_tactical::arena::Ev;
+use vitro_tactical::condition::Status;
+use vitro_tactical::model::{Controller, Intention, Tactical};
+use vitro_tactical::world::Side;
+
+/// A red adversary hiding at a node.
+#[derive(Debug)]
+pub struct Adversary {
+    brief: Arc<Brief>,
+    aim: BTreeMap<EntityId, SimTime>,
+    /// Shots fired.
+    pub shots: u32,
+}
+
+impl Adversary {
+    /// An adversary of `brief`.
+    pub fn new(brief: Arc<Brief>) -> Self {
+        Adversary {
+            brief,
+            aim: BTreeMap::new(),
+            shots: 0,
+        }
+    }
+
+    fn on_sense(&mut self, cx: &mut Context<'_, Tactical>) {
+        let active = cx
+            .sense(&Myself)
+            .is_some_and(|(c, _)| c.status == Status::Active);
+        if !active {
+            return;
+        }
+        let m = &self.brief.mission;
+        let seen = cx.sense(&Vision(self.brief.sensors.ground.vision()));
+        let now = cx.now();
+        let blue: Vec<EntityId> = seen
+            .iter()
+            .filter(|s| s.seen_as == Side::Blue && s.distance <= m.attack_range_m)
+            .map(|s| s.id)
+            .collect();
+        self.aim.retain(|id, _| blue.contains(id));
+        for id in blue {
+            let since = *self.aim.entry(id).or_insert(now);
+            let aimed = now.saturating_since(since).as_secs_f64() >= m.attack_aim_s;
+            let watched = cx.sense(&Watched {
+                target: id,
+                radius: m.cover_radius_m,
+            });
+            if aimed && !watched {
+                let fire = Fire {
+                    range: m.attack_range_m,
+                    p_hit: m.hit_probability,
+                };
+                if cx.act(&fire, id).is_ok() {
+                    self.shots += 1;
+                }
+                self.aim.insert(id, now);
+                break;
+            }
+        }
+        cx.set_timer(
+            SimDuration::from_secs_f64(self.brief.sensors.period_s),
+            SENSE,
+        );
+    }
+}
+
+impl Controller for Adversary {
+    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+        match input {
+            Input::Event(Ev::Start) => {
+                cx.set_timer(SimDuration::from_secs(1), SENSE);
+            }
+            Input::Timer(SENSE) => self.on_sense(cx),
+            _ => {}
+        }
+    }
+    fn intention(&self) -> Option<Intention> {
+        let text = if self.aim.is_empty() {
+            "hide and watch".to_string()
+        } else {
+            format!("aim at {} blue unit(s)", self.aim.len())
+        };
+        Some(Intention {
+            text,
+            ..Intention::default()
+        })
+    }
+}
+
+/// Timer key: the HVT shows up.
+const APPEAR: u64 = 30;
+
+/// The high-value target: hidden, then evading.
+#[derive(Debug)]
+pub struct Hvt {
+    brief: Arc<Brief>,
+    walk: Walk,
+    search: Search,
+    tracked: Vec<EntityId>,
+    beliefs: Vec<Belief>,
+    next: Option<NodeId>,
+    under_way: bool,
+    /// Turns played.
+    pub turns: u32,
+    clock: TurnClock,
+}
+
+impl Hvt {
+    /// The target of `brief`, walking at `walk`'s level; it keeps a belief about each of
+    /// the first `hvt_pursuers` blue troopers (the ones the team sends after it).
+    pub fn new(brief: Arc<Brief>, walk: Walk) -> Self {
+        let k = brief.mission.hvt_pursuers as usize;
+        let tracked: Vec<EntityId> = brief.team.iter().copied().take(k.max(1)).collect();
+        Hvt {
+            search: Search::new(&brief.pursuit),
+            brief,
+            walk,
+            tracked,
+            beliefs: Vec::new(),
+            next: None,
+            under_way: false,
+            turns: 0,
+            clock: TurnClock::default(),
+        }
+    }
+
+    fn on_turn(&mut self, cx: &mut Context<'_, Tactical>) {
+        let Some((me, Some(pose))) = cx.sense(&Myself) else {
+            return;
+        };
+        if me.status != Status::Active {
+            return;
+        }
+        self.clock.begin(cx);
+        let Some(board) = self.brief.board.clone() else {
+            return;
+        };
+        let Some(here) = self.brief.walk_node(pose.pos) else {
+            return;
+        };
+        let here = here.0 as usize;
+        let n = board.node_count();
+        if self.beliefs.len() != self.tracked.len() {
+            self.beliefs = vec![Belief::uniform(n); self.tracked.len()];
+        }
+        let seen = cx.sense(&Vision(self.brief.sensors.ground.vision()));
+        for (id, belief) in self.tracked.iter().zip(&mut self.beliefs) {
+            belief.predict(&board);
+            match seen
+                .iter()
+                .find(|s| s.id == *id)
+                .and_then(|s| self.brief.walk_node(s.pos))
+            {
+                Some(v) => belief.collapse(v.0 as usize),
+                None => belief.exclude_seen_by(&board, &[here]),
+            }
+            if belief.size() == 0 {
+                *belief = Belief::uniform(n);
+            }
+        }
+        let view = EvaderView {
+            arena: &board,
+            position: here,
+            beliefs: &self.beliefs,
+            turn: self.turns,
+        };
+        let v = self.search.evade(&view, cx.rng("evade"));
+        self.turns += 1;
+        self.next = Some(NodeId(v as u32));
+        let us = self.brief.pursuit.think_us_per_iteration * f64::from(self.brief.pursuit.budget);
+        cx.set_timer(SimDuration::from_secs_f64(us * 1e-6), DECIDED);
+    }
+
+    fn on_decided(&mut self, cx: &mut Context<'_, Tactical>) {
+        if let Some(node) = self.next
+            && !self.under_way
+        {
+            self.under_way = cx.act(&self.walk, node).is_ok();
+        }
+        // The next turn starts on arrival (no sooner than MIN_TURN after this one began), or
+        // after a long turn at the latest.
+        let fallback = SimDuration::from_secs_f64(2.0 * self.brief.turn_s);
+        self.clock.next_in(fallback, TURN, cx);
+    }
+
+    fn on_arrived(&mut self, cx: &mut Context<'_, Tactical>) {
+        self.under_way = false;
+        if self.turns > 0 {
+            self.clock.after_move(TURN, cx);
+        }
+    }
+}
+
+impl Controller for Hvt {
+    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+        match input {
+            Input::Event(Ev::Start) => {
+                let at = SimDuration::from_secs_f64(self.brief.mission.hvt_appear_s);
+                cx.set_timer(at, APPEAR);
+            }
+            Input::Timer(APPEAR) if cx.act(&SetStatus, Status::Active).is_ok() => {
+                cx.set_timer(SimDuration::ZERO, TURN);
+            }
+            Input::Timer(TURN) => self.on_turn(cx),
+            Input::Timer(DECIDED) => self.on_decided(cx),
+            Input::Event(Ev::Arrived(_)) => self.on_arrived(cx),
+            _ => {}
+        }
+    }
+    fn intention(&self) -> Option<Intention> {
+        if self.turns == 0 {
+            return None;
+        }
+        let path = self
+            .next
+            .and_then(|n| self.brief.node_point(Mode::Walk, n))
+            .into_iter()
+            .collect();
+        Some(Intention {
+            text: format!("evade ({}, turn {})", self.search.name(), self.turns),
+            path,
+            ..Intention::default()
+        })
+    }
+}

@@ -1,0 +1,130 @@
+//! The mission's sensors over the arena: friend-or-foe vision against every active body,
+//! an entity's own condition, and the umpire's full view (for the metrics only).
+
+use vitro::entity::EntityId;
+use vitro::env::{Probe, Sensor};
+use vitro_tactical::arena::Arena;
+use vitro_tactical::condition::{Condition, Status};
+use vitro_tactical::entity::Pose;
+use vitro_tactical::sensor::{FriendFoeVision, Sighting};
+use vitro_tactical::world::Body;
+
+/// The body that vision looks at: pose, side and height of an active entity.
+fn body_of(w: &Arena, id: EntityId) -> Option<Body> {
+    let c = w.conditions.get(id)?;
+    if c.status != Status::Active {
+        return None;
+    }
+    let p = w.pose(id)?;
+    Some(Body::new(p.pos, p.heading, c.side, c.height))
+}
+
+/// Friend-or-foe vision ([`FriendFoeVision`]) over the arena's active bodies: range, field
+/// of view, line of sight against terrain and buildings, a detection draw and an
+/// identification draw from the observer's `"fof"` stream. Bodies are examined in id order.
+#[derive(Copy, Clone, Debug)]
+pub struct Vision(pub FriendFoeVision);
+
+impl Sensor<Arena> for Vision {
+    type Reading = Vec<Sighting>;
+    fn read(&self, w: &Arena, me: EntityId, probe: &mut Probe<'_>) -> Vec<Sighting> {
+        let Some(mine) = body_of(w, me) else {
+            return Vec::new();
+        };
+        w.conditions
+            .iter()
+            .filter(|(id, _)| *id != me)
+            .filter_map(|(id, _)| {
+                let b = body_of(w, id)?;
+                self.0.look(&w.site, &mine, id, &b, probe.rng("fof"))
+            })
+            .collect()
+    }
+}
+
+/// The entity's own condition and pose (a soldier knows whether he is aboard or down).
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Myself;
+
+impl Sensor<Arena> for Myself {
+    type Reading = Option<(Condition, Option<Pose>)>;
+    fn read(&self, w: &Arena, me: EntityId, _: &mut Probe<'_>) -> Self::Reading {
+        Some((*w.conditions.get(me)?, w.pose(me)))
+    }
+}
+
+/// Every entity's condition and pose, in id order: the umpire's view for the metrics
+/// (no player reads it).
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Situation;
+
+impl Sensor<Arena> for Situation {
+    type Reading = Vec<(EntityId, Condition, Option<Pose>)>;
+    fn read(&self, w: &Arena, _: EntityId, _: &mut Probe<'_>) -> Self::Reading {
+        w.conditions
+            .iter()
+            .map(|(id, c)| (id, *c, w.pose(id)))
+            .collect()
+    }
+}
+
+/// Whether a friendly aircraft watches over `target`: some active aircraft of the target's
+/// side within `radius` metres (horizontally). Adversaries hear and see the drones overhead
+/// and hold their fire.
+#[derive(Copy, Clone, Debug)]
+pub struct Watched {
+    /// The entity looked at.
+    pub target: EntityId,
+    /// Cover radius, metres.
+    pub radius: f64,
+}
+
+impl Sensor<Arena> for Watched {
+    type Reading = bool;
+    fn read(&self, w: &Arena, _: EntityId, _: &mut Probe<'_>) -> bool {
+        covered(w, self.target, self.radius)
+    }
+}
+
+/// True if an active aircraft of `target`'s side is within `radius` metres of it
+/// (horizontally).
+pub fn covered(w: &Arena, target: EntityId, radius: f64) -> bool {
+    let (Some(c), Some(p)) = (w.conditions.get(target), w.pose(target)) else {
+        return false;
+    };
+    w.conditions.iter().any(|(id, a)| {
+        a.role.is_aircraft()
+            && a.side == c.side
+            && a.status == Status::Active
+            && w.pose(id)
+                .is_some_and(|q| libm::hypot(q.pos[0] - p.pos[0], q.pos[1] - p.pos[1]) <= radius)
+    })
+}
+
+/// Whether the person `who` lies down (hit) within `range` metres of the observer and in
+/// its line of sight: a soldier sees a comrade fall. False for an observer without a body.
+#[derive(Copy, Clone, Debug)]
+pub struct Fallen {
+    /// The person looked at.
+    pub who: EntityId,
+    /// How far the observer sees, metres.
+    pub range: f64,
+}
+
+impl Sensor<Arena> for Fallen {
+    type Reading = bool;
+    fn read(&self, w: &Arena, me: EntityId, _: &mut Probe<'_>) -> bool {
+        let down = w
+            .conditions
+            .get(self.who)
+            .is_some_and(|c| c.status == Status::Down);
+        let (Some(a), Some(b)) = (w.pose(me), w.pose(self.who)) else {
+            return false;
+        };
+        let near = libm::hypot(a.pos[0] - b.pos[0], a.pos[1] - b.pos[1]) <= self.range;
+        // Eyes of a standing observer, the body on the ground.
+        let eye = [a.pos[0], a.pos[1], a.pos[2] + 1.7];
+        let body = [b.pos[0], b.pos[1], b.pos[2] + 0.3];
+        down && near && w.site.los.visible(eye, body)
+    }
+}

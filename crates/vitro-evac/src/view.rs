@@ -1,0 +1,247 @@
+//! The mission as [`vitro_record`] data: the static [`Scene`] (map layers, terrain,
+//! geo-reference, named places) and a [`Frame`] of the current state (entities,
+//! lines of sight, messages, intentions, sensor sectors, metrics, log). Reading only: making
+//! a frame never changes the simulation.
+
+use super::Mission;
+use std::collections::BTreeMap;
+use vitro_record::{
+    Building, Detection, EntityState, Frame, Geo, Heightmap, Intention, Scene, SensorFootprint,
+};
+use vitro_site::map::Mode;
+use vitro_site::site::Site;
+use vitro_tactical::condition::Status;
+use vitro_tactical::sensor::FriendFoeVision;
+use vitro_tactical::world::{Body, Side};
+
+fn side(s: Side) -> vitro_record::Side {
+    match s {
+        Side::Blue => vitro_record::Side::Friendly,
+        Side::Red => vitro_record::Side::Hostile,
+        Side::Neutral => vitro_record::Side::Neutral,
+    }
+}
+
+/// Terrain samples per side of the scene's heightmap (at most).
+const TERRAIN_SAMPLES: usize = 96;
+
+fn geo(site: &Site) -> Geo {
+    let p = site.map.projection;
+    let [lat1, lon1] = p.unproject([1000.0, 1000.0]);
+    Geo {
+        lat0: p.lat0,
+        lon0: p.lon0,
+        m_per_deg_lat: 1000.0 / (lat1 - p.lat0),
+        m_per_deg_lon: 1000.0 / (lon1 - p.lon0),
+        offset: site.offset,
+        z0: 0.0,
+    }
+}
+
+fn heightmap(site: &Site) -> Heightmap {
+    let e = site.terrain.extent();
+    let span = (e[2] - e[0]).max(e[3] - e[1]);
+    let cell = span / (TERRAIN_SAMPLES - 1) as f64;
+    let nx = (((e[2] - e[0]) / cell) as usize + 1).min(TERRAIN_SAMPLES);
+    let ny = (((e[3] - e[1]) / cell) as usize + 1).min(TERRAIN_SAMPLES);
+    let mut z = Vec::with_capacity(nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            let x = (e[0] + i as f64 * cell).min(e[2]);
+            let y = (e[1] + j as f64 * cell).min(e[3]);
+            z.push(site.ground([x, y]).unwrap_or(0.0) as f32);
+        }
+    }
+    Heightmap {
+        nx,
+        ny,
+        origin: [e[0], e[1]],
+        cell,
+        z,
+    }
+}
+
+fn lines(site: &Site, mode: Mode) -> Vec<Vec<[f64; 3]>> {
+    (0..site.map.streets(mode).segments.len())
+        .filter_map(|i| site.segment_path(mode, i))
+        .collect()
+}
+
+impl Mission {
+    /// The static scene of the mission.
+    pub fn scene(&self) -> Scene {
+        let site = &self.brief.site;
+        let e = site.map.extent;
+        let [ox, oy] = site.offset;
+        let places = ["start", "safehouse", "extraction"]
+            .into_iter()
+            .zip(self.brief.places)
+            .map(|(k, p)| (k.to_string(), p))
+            .collect();
+        Scene {
+            name: self.name.clone(),
+            geo: geo(site),
+            extent: [e[0] + ox, e[1] + oy, e[2] + ox, e[3] + oy],
+            streets: lines(site, Mode::Drive),
+            paths: lines(site, Mode::Walk),
+            buildings: site
+                .buildings
+                .iter()
+                .map(|b| Building {
+                    footprint: b.footprint.outer.clone(),
+                    base: b.base,
+                    height: b.roof - b.base,
+                })
+                .collect(),
+            bridges: site.bridges.iter().map(|b| b.deck.clone()).collect(),
+            forbidden: site
+                .map
+                .water
+                .iter()
+                .map(|w| w.area.outer.iter().map(|&p| site.to_world(p)).collect())
+                .collect(),
+            places,
+            terrain: heightmap(site),
+        }
+    }
+
+    /// The state now, as a frame; the messages and log lines since the previous frame are
+    /// moved into it.
+    pub fn frame(&mut self) -> Frame {
+        let w = self.sim.env();
+        let mut entities = Vec::new();
+        let mut bodies: Vec<(u32, Body, bool)> = Vec::new();
+        for m in &self.members {
+            let Some(c) = w.conditions.get(m.id) else {
+                continue;
+            };
+            let pose = match c.status {
+                Status::Aboard(v) => w.pose(v),
+                Status::Hidden => None,
+                _ => w.pose(m.id),
+            };
+            let Some(p) = pose else { continue };
+            let metrics = &self.referee.metrics;
+            let detected = m.side != Side::Red
+                || metrics.first_detection_s.contains_key(&m.name)
+                || (Some(m.id) == self.brief.hvt && metrics.hvt_first_report_s.is_some());
+            let status = if detected || c.status != Status::Active {
+                c.status.name().to_string()
+            } else {
+                "undetected".to_string()
+            };
+            entities.push(EntityState {
+                id: m.id.0,
+                name: m.name.clone(),
+                kind: c.role.name().into(),
+                side: side(m.side),
+                level: p.level.name().into(),
+                pos: p.pos,
+                heading: p.heading,
+                speed: p.speed,
+                status,
+            });
+            if c.status == Status::Active {
+                let b = Body::new(p.pos, p.heading, c.side, c.height);
+                bodies.push((m.id.0, b, c.role.is_aircraft()));
+            }
+        }
+        let ground = self.brief.sensors.ground.vision();
+        let air = self.brief.sensors.air.vision();
+        let mut detections = Vec::new();
+        let mut sensors = Vec::new();
+        for (id, b, flies) in &bodies {
+            if b.side != Side::Blue {
+                continue;
+            }
+            let v: &FriendFoeVision = if *flies { &air } else { &ground };
+            sensors.push(SensorFootprint {
+                id: *id,
+                kind: "camera".into(),
+                range: v.range,
+                heading: b.heading,
+                fov: 2.0 * v.half_fov,
+            });
+            for (tid, t, _) in &bodies {
+                if t.side == Side::Red && v.can_see(&w.site, b, t) {
+                    detections.push(Detection {
+                        observer: *id,
+                        target: *tid,
+                        from: b.eye(),
+                        to: t.centre(),
+                        seen_as: vitro_record::Side::Hostile,
+                    });
+                }
+            }
+        }
+        let intentions = self
+            .members
+            .iter()
+            .filter_map(|m| {
+                let i = self.sim.agent(m.id)?.intention()?;
+                Some(Intention {
+                    id: m.id.0,
+                    text: i.text,
+                    plan: i.plan,
+                    path: i.path,
+                    original_plan: i.original_plan,
+                    belief: i.belief,
+                    heat: i.heat,
+                    ..Intention::default()
+                })
+            })
+            .collect();
+        let messages = match self.heard.lock() {
+            Ok(mut h) => std::mem::take(&mut h.messages),
+            Err(_) => Vec::new(),
+        };
+        let log = self
+            .referee
+            .log
+            .drain(..)
+            .map(|(t, s)| format!("{:7.1} s  {s}", t.as_secs_f64()))
+            .collect();
+        Frame {
+            t_ns: self.sim.now().as_nanos(),
+            events: self.sim.events_fired(),
+            entities,
+            detections,
+            messages,
+            intentions,
+            sensors,
+            metrics: metric_map(&self.metrics()),
+            log,
+        }
+    }
+}
+
+/// The numeric metrics by name (absent values left out).
+pub fn metric_map(m: &super::Metrics) -> BTreeMap<String, f64> {
+    let mut out = BTreeMap::new();
+    let b = |x: bool| if x { 1.0 } else { 0.0 };
+    out.insert("success".into(), b(m.success));
+    if let Some(t) = m.time_to_extraction_s {
+        out.insert("time_to_extraction_s".into(), t);
+    }
+    out.insert("casualties".into(), f64::from(m.casualties));
+    out.insert(
+        "adversaries_detected".into(),
+        f64::from(m.adversaries_detected),
+    );
+    out.insert("time_uncovered_s".into(), m.time_uncovered_s);
+    out.insert("hvt_captured".into(), b(m.hvt_captured));
+    out.insert("messages_sent".into(), m.messages_sent as f64);
+    out.insert("plan_repairs".into(), m.plan_repairs as f64);
+    out.insert("shots".into(), m.shots as f64);
+    let patrol = [
+        ("patrol_capture_probability", m.patrol_capture_probability),
+        ("patrol_cover_fraction", m.patrol_cover_fraction),
+        ("patrol_sight_fraction", m.patrol_sight_fraction),
+    ];
+    for (name, value) in patrol {
+        if let Some(x) = value {
+            out.insert(name.into(), x);
+        }
+    }
+    out
+}
