@@ -21,14 +21,18 @@
 mod batch;
 mod check;
 mod export;
+mod failure;
 mod map;
 mod mission;
 mod plan;
 mod record;
 mod run;
+mod run_args;
 mod solve;
 mod validate;
 mod view;
+
+pub(crate) use failure::Failure;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -46,7 +50,7 @@ struct Cli {
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Runs a scenario and reports its metrics.
-    Run(run::RunArgs),
+    Run(run_args::RunArgs),
     /// Finds a plan for a PDDL problem (STRIPS with typing).
     Plan(plan::PlanArgs),
     /// Solves a game: `vitro solve cops GRAPH.edges`.
@@ -77,17 +81,6 @@ enum Command {
         /// The scenario file (TOML).
         scenario: PathBuf,
     },
-}
-
-/// How a command failed: the exit code follows.
-#[derive(Debug)]
-pub(crate) enum Failure {
-    /// Bad input: exit 2.
-    Input(anyhow::Error),
-    /// Failure while running: exit 1.
-    Runtime(anyhow::Error),
-    /// The work ran but its answer is a failure (no plan, a check failed): exit 4.
-    Check(anyhow::Error),
 }
 
 fn main() -> ExitCode {

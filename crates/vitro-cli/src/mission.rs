@@ -2,7 +2,7 @@
 //! (paced or not, recorded or not), prints a summary or one JSON object.
 
 use crate::Failure;
-use crate::run::RunArgs;
+use crate::run_args::RunArgs;
 use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;

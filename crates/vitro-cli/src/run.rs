@@ -2,46 +2,12 @@
 //! [`crate::mission`].
 
 use crate::Failure;
+use crate::run_args::RunArgs;
 use anyhow::Context as _;
-use clap::Args;
 use serde::Serialize;
-use std::path::PathBuf;
 use std::time::Instant;
 use vitro_demo::config::{ConfigError, DemoConfig, MAX_END_S};
 use vitro_demo::{DemoError, Metrics, Scenario};
-
-#[derive(Debug, Args)]
-pub(crate) struct RunArgs {
-    /// The scenario file (TOML): a mission scenario (e.g. scenarios/evacuation.toml) or the
-    /// patrolling-cars demo (scenarios/demo.toml).
-    pub(crate) scenario: PathBuf,
-    /// Master seed (overrides the scenario's).
-    #[arg(long)]
-    pub(crate) seed: Option<u64>,
-    /// Simulated seconds to run at most (overrides the scenario's end time).
-    #[arg(long, value_name = "SECONDS")]
-    pub(crate) until: Option<f64>,
-    /// Paces the run at X simulated seconds per wall second (0.1 to 1000); default: as fast
-    /// as possible. Pacing never changes the outcome.
-    #[arg(long, value_name = "X")]
-    pub(crate) speed: Option<f64>,
-    /// Runs every entity type at the levels of this preset (discrete, interpolated,
-    /// physical) instead of the file's — mission scenarios only.
-    #[arg(long, value_name = "PRESET", value_parser = ["discrete", "interpolated", "physical"])]
-    pub(crate) fidelity: Option<String>,
-    /// Records the run to an MCAP file (Foxglove schemas) — mission scenarios only.
-    #[arg(long, value_name = "FILE.mcap")]
-    pub(crate) record: Option<PathBuf>,
-    /// Prints one JSON object on stdout instead of the summary.
-    #[arg(long)]
-    pub(crate) json: bool,
-    /// Prints only the trace hash (or only the JSON object with --json).
-    #[arg(long)]
-    pub(crate) quiet: bool,
-    /// Tells more on stderr (mission log lines as they happen).
-    #[arg(short, long)]
-    pub(crate) verbose: bool,
-}
 
 /// What `vitro run --json` prints.
 #[derive(Serialize)]

@@ -28,61 +28,23 @@
 
 pub mod config;
 pub mod patrol;
+mod plugin;
 pub mod town;
+pub mod view;
 pub mod world;
 
 use config::{DemoConfig, Invalid};
-use patrol::{PatrolMsg, Patroller};
+pub use patrol::Demo;
+use patrol::Patroller;
+pub use plugin::PatrollingCars;
 use rand::Rng;
-use serde::{Deserialize, Serialize, Serializer};
+use serde::{Serialize, Serializer};
 use vitro::entity::{EntityError, EntityId};
 use vitro::event::ScheduleError;
 use vitro::prelude::*;
 use vitro::rng::{Owner, RngStreams};
+pub use world::Event;
 use world::Town;
-
-/// The demo model: its environment, events, messages and agents.
-#[derive(Debug)]
-pub struct Demo;
-
-/// Events of the demo.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum Event {
-    /// Wakes every car at the start.
-    Start,
-    /// A motion update of one car (for the environment).
-    Tick(EntityId),
-    /// A car reached a junction; `goal` is true at the end of its route.
-    AtNode {
-        /// The junction.
-        node: NodeId,
-        /// True if it is the goal of the current route.
-        goal: bool,
-    },
-    /// A car finished deliberating and picks its next goal.
-    Decide,
-}
-
-impl Model for Demo {
-    type Env = Town;
-    type Event = Event;
-    type Msg = PatrolMsg;
-    type Agent = Patroller;
-
-    fn on_env_event(env: &mut Town, event: &Event, fx: &mut Effects<'_, Event>) {
-        if let Event::Tick(car) = event {
-            env.on_tick(*car, fx);
-        }
-    }
-
-    fn locate(env: &Town, who: EntityId, _now: SimTime) -> Option<[f64; 3]> {
-        env.position(who).map(|(x, y)| [x, y, 0.0])
-    }
-
-    fn state_digest(env: &Town) -> u64 {
-        env.digest()
-    }
-}
 
 /// Why the demo could not be built or run.
 #[derive(Debug, thiserror::Error)]
@@ -195,6 +157,10 @@ impl Scenario {
     pub fn end(&self) -> SimTime {
         self.end
     }
+    /// Moves the end time (e.g. a shorter run than the file says).
+    pub fn set_end(&mut self, end: SimTime) {
+        self.end = end;
+    }
 
     /// Runs to the end time (paced if the control handle says so). An error if a car's
     /// controller failed.
@@ -292,7 +258,7 @@ fn stop_name(r: StopReason) -> &'static str {
 }
 
 /// What a demo run measured.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Metrics {
     /// The scenario's name.
     pub scenario: String,

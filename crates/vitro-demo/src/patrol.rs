@@ -11,12 +11,37 @@
 //! earlier arrival, then the lower entity id: the loser picks again. Claims expire at their
 //! announced arrival time, so a lost message never blocks a junction for long.
 
+use crate::world::{Event, Town};
 use crate::world::{Fix, GoToNode, Gps, Navigator};
-use crate::{Demo, Event};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use vitro::prelude::*;
+
+/// The demo model: its environment, events, messages and agents.
+#[derive(Debug)]
+pub struct Demo;
+
+impl Model for Demo {
+    type Env = Town;
+    type Event = Event;
+    type Msg = PatrolMsg;
+    type Agent = Patroller;
+
+    fn on_env_event(env: &mut Town, event: &Event, fx: &mut Effects<'_, Event>) {
+        if let Event::Tick(car) = event {
+            env.on_tick(*car, fx);
+        }
+    }
+
+    fn locate(env: &Town, who: EntityId, _now: SimTime) -> Option<[f64; 3]> {
+        env.position(who).map(|(x, y)| [x, y, 0.0])
+    }
+
+    fn state_digest(env: &Town) -> u64 {
+        env.digest()
+    }
+}
 
 /// The capability a patrolling car offers in the register.
 pub const PATROL: &str = "patrol";

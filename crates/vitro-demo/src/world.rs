@@ -4,13 +4,30 @@
 //! Agents never see [`Town`]: its storages are private to this module, and the patrol
 //! controller reaches them only through [`Gps`], [`Navigator`] and [`GoToNode`].
 
-use crate::Event;
 use crate::town::{Streets, distances};
 use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::env::{Actuator, Effects, EntityStorage, KeyValueStorage, NodeId, Probe, Sensor};
 use vitro::event::Target;
 use vitro::time::{SimDuration, SimTime};
+
+/// Events of the demo.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Event {
+    /// Wakes every car at the start.
+    Start,
+    /// A motion update of one car (for the environment).
+    Tick(EntityId),
+    /// A car reached a junction; `goal` is true at the end of its route.
+    AtNode {
+        /// The junction.
+        node: NodeId,
+        /// True if it is the goal of the current route.
+        goal: bool,
+    },
+    /// A car finished deliberating and picks its next goal.
+    Decide,
+}
 
 /// The body of a car: where it is and where it is going.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -57,7 +57,7 @@ pub struct Brief {
     /// Cover-plan settings (the Vidars).
     pub repair: RepairSpec,
     /// The pursuit board (the walk graph with line of sight), if there is a target to hunt.
-    pub board: Option<Arc<crate::agents::hunt::Board>>,
+    pub board: Option<Arc<vitro_algo::pursuit::Arena>>,
     /// Length of a pursuit turn: the time to walk a typical walk-graph edge, seconds.
     pub turn_s: f64,
     /// How the escort walks in formation.

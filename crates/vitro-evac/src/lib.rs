@@ -24,12 +24,18 @@
 pub mod act;
 pub mod agents;
 pub mod brief;
+mod error;
+mod member;
+mod plugin;
 pub mod referee;
 pub mod sense;
 mod setup;
 pub mod view;
 
 use brief::Brief;
+pub use error::MissionError;
+pub use member::Member;
+pub use plugin::Evacuation;
 use referee::{Metrics, Referee};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -38,45 +44,10 @@ use vitro::entity::EntityId;
 use vitro::sim::{Input, Simulation, StopReason};
 use vitro::time::{SimDuration, SimTime};
 use vitro_tactical::condition::{Role, Status};
-use vitro_tactical::entity::Level;
 use vitro_tactical::model::Tactical;
 use vitro_tactical::radio::Radio;
-use vitro_tactical::scenario::{
-    Diagnostics, EntityType, FidelitySpec, Preset, ScenarioFile, Validated,
-};
+use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile, Validated};
 use vitro_tactical::world::Side;
-
-/// Why a mission could not be built.
-#[derive(Debug, thiserror::Error)]
-pub enum MissionError {
-    /// The scenario file has problems.
-    #[error("{0}")]
-    Scenario(#[from] Diagnostics),
-    /// The scenario is valid but the mission cannot be set up on its site.
-    #[error("cannot set up the mission: {0}")]
-    Setup(String),
-}
-
-/// One entity of the mission as the scenario declares it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Member {
-    /// Its id.
-    pub id: EntityId,
-    /// Its unique name.
-    pub name: String,
-    /// Its type in the scenario.
-    pub kind: EntityType,
-    /// Its role in the world.
-    pub role: Role,
-    /// Its side.
-    pub side: Side,
-    /// Its level of fidelity.
-    pub level: Level,
-    /// Its start, town metres, if the file gives one.
-    pub start: Option<[f64; 2]>,
-    /// Its altitude above the ground (aircraft), metres.
-    pub altitude: Option<f64>,
-}
 
 /// What the listener collects between samples.
 #[derive(Debug, Default)]
@@ -101,6 +72,8 @@ pub struct Mission {
     pub end: SimTime,
     /// Sampling period of the metrics and the frames.
     pub sample: SimDuration,
+    /// The master seed the mission was built with.
+    pub seed: u64,
     names: BTreeMap<EntityId, String>,
     heard: Arc<Mutex<Heard>>,
     next_sample: SimTime,
@@ -185,6 +158,7 @@ impl Mission {
             referee,
             end,
             sample,
+            seed,
             names,
             heard,
             next_sample: SimTime::ZERO,

@@ -3,8 +3,8 @@
 //! JSON has no NaN or infinity (serde_json writes `null`, which does not read back as a
 //! number), so a recording refuses them with the place of the first one.
 
+use crate::error::RecordError;
 use crate::frame::{Frame, Scene};
-use crate::recorder::RecordError;
 
 fn check(
     values: impl IntoIterator<Item = f64>,

@@ -7,6 +7,9 @@
 
 use serde::Serialize;
 
+/// The fixed frame everything is drawn in.
+pub const WORLD_FRAME: &str = "world";
+
 /// A timestamp: seconds and nanoseconds.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct Time {
@@ -326,7 +329,7 @@ impl SceneEntity {
     pub fn new(t_ns: u64, id: impl Into<String>) -> Self {
         Self {
             timestamp: Time::from_ns(t_ns),
-            frame_id: crate::draw::WORLD_FRAME.to_owned(),
+            frame_id: WORLD_FRAME.to_owned(),
             id: id.into(),
             ..Self::default()
         }

@@ -5,8 +5,8 @@
 //! and its message indexes give the offsets without decompressing anything; a file without a
 //! summary (a run killed midway) is scanned chunk by chunk up to its last complete chunk.
 
+use crate::error::ReplayError;
 use crate::recorder::topic;
-use crate::replay::ReplayError;
 use mcap::records::{self, Record, op};
 use mcap::sans_io::{SummaryReadEvent, SummaryReader, SummaryReaderOptions};
 use std::io::{Read, Seek, SeekFrom};

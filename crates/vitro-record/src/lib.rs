@@ -37,6 +37,7 @@
 //! ```
 
 pub mod draw;
+mod error;
 mod finite;
 pub mod foxglove;
 pub mod frame;

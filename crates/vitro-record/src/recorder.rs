@@ -34,6 +34,7 @@
 //! [`Recorder::flush`] to close the chunk early at a point that must survive.
 
 use crate::draw;
+pub use crate::error::RecordError;
 use crate::frame::{Frame, Geo, Scene};
 use crate::schema;
 use mcap::records::{MessageHeader, Metadata};
@@ -41,7 +42,7 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{BufWriter, Seek, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Topic names of a recording.
 pub mod topic {
@@ -89,50 +90,6 @@ impl Default for RecordOptions {
             compress: true,
         }
     }
-}
-
-/// Why a recording could not be written.
-#[derive(Debug, thiserror::Error)]
-pub enum RecordError {
-    /// The file could not be created.
-    #[error("cannot create {}: {source}", path.display())]
-    Create {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        source: std::io::Error,
-    },
-    /// The MCAP writer failed (usually an I/O error underneath).
-    #[error("writing the recording: {0}")]
-    Mcap(#[from] mcap::McapError),
-    /// Flushing the output failed.
-    #[error("writing the recording: {0}")]
-    Io(#[from] std::io::Error),
-    /// A message could not be encoded.
-    #[error("encoding a message: {0}")]
-    Json(#[from] serde_json::Error),
-    /// Frames must come in time order (equal times are allowed).
-    #[error(
-        "frame at {t_ns} ns comes after one at {last_ns} ns: frames must be recorded in time order"
-    )]
-    TimeWentBack {
-        /// The rejected frame's time.
-        t_ns: u64,
-        /// The previous frame's time.
-        last_ns: u64,
-    },
-    /// A number is NaN or infinite: JSON cannot hold it, so it could not be read back.
-    #[error(
-        "{what} is {value} (at {t_ns} ns): recordings hold finite numbers only; leave an unknown value out"
-    )]
-    NotFinite {
-        /// Which number.
-        what: String,
-        /// Its value.
-        value: f64,
-        /// The frame's time (0 for the scene).
-        t_ns: u64,
-    },
 }
 
 /// Counts of what a [`Recorder`] has written so far.

@@ -7,64 +7,13 @@
 //! length of the run. A file without a summary (a run killed midway) is scanned instead, up
 //! to its last complete chunk ([`Replay::is_complete`] tells which).
 
+pub use crate::error::ReplayError;
 use crate::frame::{Frame, Scene};
 use crate::index::{Index, MessageLoc, chunk_record};
 use mcap::records::{Record, op};
 use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
-use std::path::{Path, PathBuf};
-
-/// Why a recording could not be read.
-#[derive(Debug, thiserror::Error)]
-pub enum ReplayError {
-    /// There is no such file.
-    #[error("{}: no such file", path.display())]
-    Missing {
-        /// The file.
-        path: PathBuf,
-    },
-    /// The file exists but could not be opened.
-    #[error("cannot open {}: {source}", path.display())]
-    Open {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        source: std::io::Error,
-    },
-    /// The file does not start with the MCAP magic bytes.
-    #[error("not an MCAP file (it does not start with the MCAP magic bytes)")]
-    NotMcap,
-    /// An MCAP file without the `/vitro/scene` and `/vitro/frame` channels.
-    #[error(
-        "an MCAP file without the /vitro/scene and /vitro/frame channels: not a Vitro recording"
-    )]
-    NotVitro,
-    /// A Vitro recording whose scene message is missing.
-    #[error("the recording has no scene message")]
-    NoScene,
-    /// Reading failed.
-    #[error("reading the recording: {0}")]
-    Io(#[from] std::io::Error),
-    /// A malformed MCAP record.
-    #[error("malformed MCAP: {0}")]
-    Mcap(#[from] mcap::McapError),
-    /// A malformed recording.
-    #[error("malformed recording: {0}")]
-    Corrupt(String),
-    /// A chunk compressed in a way this reader does not decode.
-    #[error("a chunk is compressed with {0:?}, which this reader does not decode (zstd or none)")]
-    Compression(String),
-    /// A scene or frame message that does not decode.
-    #[error("the {what} message at {t_ns} ns does not decode: {source}")]
-    Decode {
-        /// `"scene"` or `"frame"`.
-        what: &'static str,
-        /// Its log time.
-        t_ns: u64,
-        /// Why.
-        source: serde_json::Error,
-    },
-}
+use std::path::Path;
 
 /// A recording opened for replay.
 ///

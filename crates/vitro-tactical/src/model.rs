@@ -16,7 +16,7 @@
 //! use vitro_tactical::mission::VisitNodes;
 //! use vitro_tactical::model::{Controller, Tactical};
 //! use vitro_tactical::types::GroundKind;
-//! # use vitro_tactical::{map::{MapConfig, TownMap}, site::{Site, SiteConfig}, terrain::Terrain};
+//! # use vitro_site::{map::{MapConfig, TownMap}, site::{Site, SiteConfig}, terrain::Terrain};
 //! # let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 //! # let map = TownMap::load(format!("{root}/data/maps/kotka.osm.pbf"), &MapConfig::default()).unwrap();
 //! # let terrain = Terrain::load(format!("{root}/data/terrain/valley_64x64_90m.asc")).unwrap();

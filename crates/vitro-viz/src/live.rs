@@ -6,7 +6,8 @@
 //! through its [`Control`] handle, which changes *when* events fire in wall time, never
 //! *which*: the trace hash of a watched run is that of the unwatched one.
 
-use crate::ViewError;
+pub use crate::error::SourceError;
+use crate::error::ViewError;
 use crate::protocol::{Command, CommandError, Hello, History, Mode, ServerMsg, Status};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -19,9 +20,6 @@ use vitro_record::{Frame, Scene};
 
 /// Wall time between published frames while the run goes on.
 pub const FRAME_WALL: Duration = Duration::from_millis(40);
-
-/// An error a source reports (its controller failed, its state is inconsistent).
-pub type SourceError = Box<dyn std::error::Error + Send + Sync>;
 
 /// A simulation the viewer can run and show: what a scenario implements to be watched.
 ///

@@ -4,7 +4,7 @@
 use std::collections::VecDeque;
 
 use super::multiset::Multisets;
-use super::{CopOptions, CopsError};
+use super::options::{CopOptions, CopsError};
 use crate::graph::{Graph, NodeId};
 
 const UNKNOWN: u32 = u32::MAX;

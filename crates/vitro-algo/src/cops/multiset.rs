@@ -1,7 +1,7 @@
 //! Ranking of cop placements: sorted multisets of `k` vertices out of `n`, numbered densely
 //! by the combinatorial number system, so a position of indistinguishable cops is one index.
 
-use super::CopsError;
+use super::options::CopsError;
 
 /// All multisets of size `k` over `0..n`, with O(k) ranking and O(1) access by rank.
 #[derive(Clone, Debug)]

@@ -15,31 +15,15 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use serde::Serialize;
 
 use super::chain::{Chain, Track};
 use super::local;
 use super::tube::{self, Reach, Shape};
-use super::{Instance, PatrolError, Policy, Solution, SolveOptions, SolveStats};
+use super::{Instance, PatrolError, Policy, Solution, SolveOptions, SolveStats, Threat};
 use crate::graph::{Graph, NodeId};
 
 /// Most target-to-patroller assignments tried.
 pub const MAX_ASSIGNMENTS: usize = 64;
-
-/// The worst start for one target and phase against a team.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Threat {
-    /// Index of the target in [`Instance::targets`].
-    pub target: usize,
-    /// The phase of the schedule period when the attack starts.
-    pub phase: usize,
-    /// Each patroller's vertex at the worst joint start.
-    pub from: Vec<NodeId>,
-    /// Probability that some patroller stands on the target during the attack.
-    pub capture_probability: f64,
-    /// The attacker's expected gain: the target's value times the escape probability.
-    pub expected_loss: f64,
-}
 
 /// For every target and phase, the attacker's best joint start against `policies` (one per
 /// patroller, moving independently), by target then phase.

@@ -6,16 +6,37 @@ use std::sync::Arc;
 use serde::Serialize;
 use vitro::comm::{Address, Outgoing, Performative};
 use vitro::entity::EntityId;
+use vitro::env::Effects;
 use vitro::protocol::{Handled, Query, QueryEvent, TimerTag};
 use vitro::sim::{Agent, Context, CostModel, Input};
 use vitro::time::SimDuration;
 
 use super::planner::{JointPlan, Repair, StepId, Why, repair};
-use super::run::{RepairRecord, RunFailure, Trigger};
+use super::record::{RepairRecord, RunFailure, Trigger};
 use super::scenario::Team;
-use super::world::{Ev, Execute, RepairModel, View};
+use super::world::{Ev, Execute, View, World};
 use super::{PLAN_PROTOCOL, Strategy, TURN_PROTOCOL, bits};
 use crate::planning::FactId;
+
+/// The model: the world above, the [`Worker`] agents and their messages.
+pub(crate) struct RepairModel;
+
+impl vitro::sim::Model for RepairModel {
+    type Env = World;
+    type Event = Ev;
+    type Msg = Msg;
+    type Agent = Worker;
+
+    fn on_env_event(env: &mut World, event: &Ev, fx: &mut Effects<'_, Ev>) {
+        if *event == Ev::Disturb {
+            env.disturb(fx);
+        }
+    }
+
+    fn state_digest(env: &World) -> u64 {
+        env.digest()
+    }
+}
 
 type Cx<'a> = Context<'a, RepairModel>;
 

@@ -72,6 +72,7 @@
 
 mod agent;
 mod planner;
+mod record;
 mod run;
 mod scenario;
 mod world;

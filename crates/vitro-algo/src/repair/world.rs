@@ -10,8 +10,7 @@ use vitro::env::{Actuator, Effects, EntityStorage, KeyValueStorage, Probe, Senso
 use vitro::event::Target;
 use vitro::time::SimTime;
 
-use super::agent::{Msg, Worker};
-use super::run::{Applied, AppliedKind};
+use super::record::{Applied, AppliedKind};
 use super::scenario::Team;
 use super::{Disturbance, bits};
 use crate::planning::{ActionId, FactId};
@@ -200,25 +199,5 @@ impl Actuator<World, Ev> for Execute {
         };
         w.record(fx.now(), Some(agent), kind);
         Ok(())
-    }
-}
-
-/// The model: the world above, the [`Worker`] agents and their messages.
-pub(crate) struct RepairModel;
-
-impl vitro::sim::Model for RepairModel {
-    type Env = World;
-    type Event = Ev;
-    type Msg = Msg;
-    type Agent = Worker;
-
-    fn on_env_event(env: &mut World, event: &Ev, fx: &mut Effects<'_, Ev>) {
-        if *event == Ev::Disturb {
-            env.disturb(fx);
-        }
-    }
-
-    fn state_digest(env: &World) -> u64 {
-        env.digest()
     }
 }

@@ -38,6 +38,16 @@ pub(crate) fn parse_term(file: &str, src: &str) -> Result<Term, RuleError> {
     Ok(t)
 }
 
+impl Term {
+    /// Reads one term, e.g. `at(guard, X)`.
+    ///
+    /// # Errors
+    /// A [`RuleError`] (file name `term`) if `text` is not exactly one term.
+    pub fn parse(text: &str) -> Result<Term, RuleError> {
+        parse_term("term", text)
+    }
+}
+
 struct Parser<'f> {
     file: &'f str,
     toks: Vec<Token>,

@@ -97,14 +97,6 @@ impl Term {
         Term::Var(Var::new(name))
     }
 
-    /// Reads one term, e.g. `at(guard, X)`.
-    ///
-    /// # Errors
-    /// A [`RuleError`](super::RuleError) (file name `term`) if `text` is not exactly one term.
-    pub fn parse(text: &str) -> Result<Term, super::RuleError> {
-        super::parser::parse_term("term", text)
-    }
-
     /// The functor (name) and arity of an atom or compound; `None` for other terms.
     pub fn functor(&self) -> Option<(&str, usize)> {
         match self {

@@ -6,6 +6,7 @@
 //! red, neutral green, unknown yellow), a heading arrow as long as a second of travel, and a
 //! label.
 
+pub use crate::foxglove::WORLD_FRAME;
 use crate::foxglove::{
     ArrowPrimitive, Color, CubePrimitive, CylinderPrimitive, FrameTransform, FrameTransforms,
     KeyValuePair, LinePrimitive, LineType, LocationFix, Log, LogLevel, Pose, Quaternion,
@@ -16,9 +17,6 @@ use crate::frame::{EntityState, Frame, Geo, Side};
 mod map;
 
 pub use map::map_update;
-
-/// The fixed frame everything is drawn in.
-pub const WORLD_FRAME: &str = "world";
 
 /// The colour of a side, as the viewer and KML draw it.
 pub fn side_color(side: Side) -> Color {

@@ -12,11 +12,13 @@
 //! assert!(town.walk.node_count() > town.drive.node_count());
 //! ```
 
+mod error;
 mod features;
 mod osm;
 mod streets;
 mod zones;
 
+pub use error::MapError;
 pub use features::{Bridge, Building, HeightRules, WaterArea};
 pub use streets::{Mode, Segment, StreetEdge, StreetGraph, StreetNode};
 pub use zones::{ForbiddenZones, ZoneConfig};
@@ -26,28 +28,6 @@ use osm::RawOsm;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
-
-/// Why a map could not be loaded.
-#[derive(Debug, thiserror::Error)]
-pub enum MapError {
-    /// The file could not be opened.
-    #[error("cannot read {path}: {source}")]
-    Io {
-        /// The file.
-        path: String,
-        /// The cause.
-        source: std::io::Error,
-    },
-    /// The PBF decoder failed.
-    #[error("invalid .osm.pbf data: {0}")]
-    Pbf(#[from] osmpbf::Error),
-    /// The data decoded but makes no sense.
-    #[error("malformed map: {0}")]
-    Malformed(String),
-    /// The file holds no nodes.
-    #[error("the map holds no nodes")]
-    Empty,
-}
 
 /// Loading options.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]

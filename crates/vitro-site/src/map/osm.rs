@@ -3,7 +3,7 @@
 //! Everything is kept in file order; node coordinates are looked up by id (never iterated), so
 //! nothing depends on a hasher's seed.
 
-use super::MapError;
+use super::error::MapError;
 use osmpbf::{Element, ElementReader, RelMemberType};
 use std::collections::HashMap;
 use std::io::Read;

@@ -1,6 +1,6 @@
 //! The terrain layer: elevation tint, hillshade, contours.
 
-use super::View;
+use super::canvas::View;
 use crate::terrain::Terrain;
 use tiny_skia::Pixmap;
 

@@ -1,6 +1,8 @@
 //! Decorations: legend, scale bar, north arrow, attribution.
 
-use super::{OSM_ATTRIBUTION, RenderError, RenderOptions, View, paint, stroke, text};
+use super::canvas::{View, paint, stroke};
+use super::options::{OSM_ATTRIBUTION, RenderError, RenderOptions};
+use super::text;
 use crate::site::Site;
 use tiny_skia::{FillRule, PathBuilder, Pixmap, Rect, Transform};
 

@@ -6,71 +6,23 @@
 //! when taller), driving-graph junctions; then a legend, a scale bar, a north arrow and the
 //! attribution.
 
+mod canvas;
 mod ground;
 mod legend;
+mod options;
 mod overlay;
 mod text;
 
+pub use options::{OSM_ATTRIBUTION, RenderError, RenderOptions};
 pub use overlay::Overlay;
 
-use crate::geo::{P2, Polygon};
+use canvas::{View, line_path, paint, polygon_path, stroke};
+
 use crate::map::{Mode, TownMap};
-use crate::site::{Site, SiteConfig, SiteError};
+use crate::site::{Site, SiteConfig};
 use crate::terrain::Terrain;
 use std::path::Path;
-use tiny_skia::{
-    FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke, StrokeDash, Transform,
-};
-
-/// Why a map could not be rendered.
-#[derive(Debug, thiserror::Error)]
-pub enum RenderError {
-    /// The town could not be set on the terrain.
-    #[error(transparent)]
-    Site(#[from] SiteError),
-    /// The requested image is empty or too large.
-    #[error("bad image size {0} x {1}")]
-    Size(u32, u32),
-    /// The embedded font is unreadable.
-    #[error("the embedded font cannot be read")]
-    Font,
-    /// Encoding or writing the PNG failed.
-    #[error("cannot write {path}: {message}")]
-    Write {
-        /// The output file.
-        path: String,
-        /// What went wrong.
-        message: String,
-    },
-}
-
-/// What to draw and how big.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RenderOptions {
-    /// Image width, pixels (the height follows the town's aspect).
-    pub width: u32,
-    /// Margin around the town's extent, metres.
-    pub margin: f64,
-    /// World rectangle `[min_x, min_y, max_x, max_y]` to draw instead of the town's extent
-    /// plus margin (a close-up).
-    pub window: Option<[f64; 4]>,
-    /// Title line of the legend.
-    pub title: String,
-    /// Attribution lines, bottom right (the OpenStreetMap line is always added).
-    pub attribution: Vec<String>,
-}
-
-impl Default for RenderOptions {
-    fn default() -> Self {
-        RenderOptions {
-            width: 1600,
-            margin: 60.0,
-            window: None,
-            title: "Town on terrain".into(),
-            attribution: Vec::new(),
-        }
-    }
-}
+use tiny_skia::{FillRule, PathBuilder, Pixmap, Transform};
 
 /// Size of a rendered image.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, serde::Serialize)]
@@ -80,9 +32,6 @@ pub struct RenderSummary {
     /// Height, pixels.
     pub height: u32,
 }
-
-/// The attribution the map data requires.
-pub const OSM_ATTRIBUTION: &str = "Map data \u{a9} OpenStreetMap contributors, ODbL 1.0";
 
 /// Renders `map` set on `terrain` at `offset` (world position of the town's centre; `None`
 /// centres it) to the PNG file `out`, with default options.
@@ -98,71 +47,6 @@ pub fn render_map(
     };
     let site = Site::new(map.clone(), terrain.clone(), &config)?;
     render_site(&site, &RenderOptions::default(), out)
-}
-
-/// World to pixel mapping.
-struct View {
-    x0: f64,
-    y1: f64,
-    scale: f64,
-}
-
-impl View {
-    fn px(&self, p: P2) -> (f32, f32) {
-        (
-            ((p[0] - self.x0) * self.scale) as f32,
-            ((self.y1 - p[1]) * self.scale) as f32,
-        )
-    }
-    fn world(&self, px: f64, py: f64) -> P2 {
-        [self.x0 + px / self.scale, self.y1 - py / self.scale]
-    }
-}
-
-fn paint(rgba: [u8; 4]) -> Paint<'static> {
-    let mut p = Paint::default();
-    p.set_color_rgba8(rgba[0], rgba[1], rgba[2], rgba[3]);
-    p.anti_alias = true;
-    p
-}
-
-fn stroke(width: f32, dash: Option<Vec<f32>>) -> Stroke {
-    Stroke {
-        width,
-        line_cap: LineCap::Round,
-        line_join: LineJoin::Round,
-        dash: dash.and_then(|d| StrokeDash::new(d, 0.0)),
-        ..Stroke::default()
-    }
-}
-
-fn line_path(view: &View, pts: impl IntoIterator<Item = P2>) -> Option<tiny_skia::Path> {
-    let mut pb = PathBuilder::new();
-    for (i, p) in pts.into_iter().enumerate() {
-        let (x, y) = view.px(p);
-        if i == 0 {
-            pb.move_to(x, y);
-        } else {
-            pb.line_to(x, y);
-        }
-    }
-    pb.finish()
-}
-
-fn polygon_path(view: &View, poly: &Polygon, offset: P2) -> Option<tiny_skia::Path> {
-    let mut pb = PathBuilder::new();
-    for ring in poly.rings() {
-        for (i, p) in ring.iter().enumerate() {
-            let (x, y) = view.px([p[0] + offset[0], p[1] + offset[1]]);
-            if i == 0 {
-                pb.move_to(x, y);
-            } else {
-                pb.line_to(x, y);
-            }
-        }
-        pb.close();
-    }
-    pb.finish()
 }
 
 /// Renders a site to the PNG file `out`.

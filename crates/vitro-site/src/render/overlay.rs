@@ -15,7 +15,9 @@
 //! # std::fs::remove_file(out).unwrap();
 //! ```
 
-use super::{RenderError, View, line_path, paint, stroke, text};
+use super::canvas::{View, line_path, paint, stroke};
+use super::options::RenderError;
+use super::text;
 use crate::geo::P2;
 use tiny_skia::{FillRule, PathBuilder, Pixmap, Rect, Transform};
 

@@ -1,6 +1,7 @@
 //! Reading a single-band GeoTIFF elevation model.
 
-use super::{Grid, TerrainError};
+use super::error::TerrainError;
+use super::grid::Grid;
 use std::io::{Read, Seek};
 use tiff::decoder::{Decoder, DecodingResult};
 use tiff::tags::Tag;

@@ -14,78 +14,17 @@
 //! helicopter's inner loops and dynamics run several sub-steps per flight step.
 
 pub mod ctol;
+mod engage;
 pub mod lattice;
 pub mod vtol;
 
 use crate::arena::{Arena, Clock, Ev};
-use crate::entity::air::{FlightCommand, Pilot};
-use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::env::Effects;
-use vitro::event::Target;
-use vitro::time::SimDuration;
 
 pub use crate::entity::air::FlightCommand as Command;
-
-/// Why an autopilot refused a command.
-#[derive(Clone, Debug, PartialEq, thiserror::Error, Serialize, Deserialize)]
-pub enum FlyError {
-    /// The entity has no aircraft this autopilot flies.
-    #[error("entity {0:?} has no aircraft this autopilot flies")]
-    NoBody(EntityId),
-    /// A waypoint command without waypoints.
-    #[error("a waypoint command needs at least one waypoint")]
-    NoWaypoints,
-    /// A number is not finite.
-    #[error("the command holds a value that is not a finite number")]
-    NotFinite,
-}
-
-/// Checks a command before an autopilot takes it.
-pub(crate) fn validate(cmd: &FlightCommand) -> Result<(), FlyError> {
-    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-    match cmd {
-        FlightCommand::Straight {
-            heading,
-            altitude,
-            speed,
-        } => {
-            if !finite(&[*heading, *altitude, speed.unwrap_or(0.0)]) {
-                return Err(FlyError::NotFinite);
-            }
-        }
-        FlightCommand::Waypoints { points, speed } => {
-            if points.is_empty() {
-                return Err(FlyError::NoWaypoints);
-            }
-            if !points.iter().all(|p| finite(p)) || !speed.unwrap_or(0.0).is_finite() {
-                return Err(FlyError::NotFinite);
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Stores the command as the aircraft's pilot state.
-pub(crate) fn engage(w: &mut Arena, me: EntityId, cmd: FlightCommand) {
-    w.pilots.insert(
-        me,
-        Pilot {
-            cmd,
-            next: 0,
-            plan: Vec::new(),
-        },
-    );
-}
-
-/// Tells `who` it reached waypoint `i`, now.
-pub(crate) fn reached(who: EntityId, i: usize, fx: &mut Effects<'_, Ev>) {
-    fx.schedule_in(
-        SimDuration::ZERO,
-        Target::Entity(who),
-        Ev::Waypoint(i as u32),
-    );
-}
+pub use engage::FlyError;
+pub(crate) use engage::{engage, reached, validate};
 
 /// One step of the flight clock: every kinematic fixed-wing aircraft and every dynamic
 /// helicopter. The clock keeps running while there is any (they cannot stop flying).

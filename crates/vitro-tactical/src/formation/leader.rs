@@ -2,8 +2,8 @@
 //! runs the leader's rule program (formation, pace, arrival).
 
 use super::ground::{self, Ground};
-use super::kb::{self, Signature};
-use super::motion::{Follow, Mover, xy};
+use super::kb::{self};
+use super::motion::{Mover, xy};
 use super::pattern::{Pattern, Trail, slot_point};
 use super::record::{Arrival, Switch, TrackPoint};
 use super::sense::{FreeSlot, Gait, Hostiles, NearestNode};
@@ -24,18 +24,10 @@ use vitro_site::geo::{P2, dist};
 
 mod modules;
 mod orders;
+mod state;
 use modules::Bound;
 use orders::{dismiss, parse_id};
-
-/// The leader's modules and their update operations.
-const MODULES: Signature = &[
-    ("eyes", &[]),
-    ("squad", &["form", "brief"]),
-    ("route", &["pace", "report"]),
-];
-const EYES: usize = 0;
-const SQUAD: usize = 1;
-const ROUTE: usize = 2;
+use state::{Lag, MODULES, Pace, State};
 
 /// Timer tag of the leader's deliberation tick ("FL").
 const TICK: TimerTag = TimerTag(0x464c);
@@ -45,70 +37,6 @@ const REBRIEF: SimDuration = SimDuration::from_secs(10);
 const FACING_CHANGE: f64 = 10.0 * std::f64::consts::PI / 180.0;
 /// How often the leader looks at the ground.
 const LOOK_EVERY: SimDuration = SimDuration::from_secs(1);
-
-/// How much the squad lags: the worst member's distance to its slot.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-enum Lag {
-    None,
-    Some,
-    Far,
-}
-
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-enum Pace {
-    Normal,
-    Slow,
-    Halt,
-}
-
-/// An order being carried out.
-#[derive(Clone, Debug)]
-struct Route {
-    follow: Follow,
-    requester: EntityId,
-    goal: P2,
-}
-
-/// Everything the leader's modules read and write.
-#[derive(Debug)]
-struct State {
-    params: FormationParams,
-    roster: Vec<EntityId>,
-    pattern: Pattern,
-    switched_at: Option<SimTime>,
-    briefed: bool,
-    briefed_at: SimTime,
-    facing: Option<f64>,
-    briefed_facing: Option<f64>,
-    trail: Trail,
-    route: Option<Route>,
-    /// The route being walked when a `Hold` came.
-    held: Option<Follow>,
-    /// Since when the leader has stood at the goal, and how long it may wait there.
-    at_goal_since: Option<(SimTime, SimDuration)>,
-    lag: Lag,
-    /// Since when the squad has lagged, and how long the leader may slow or wait for it.
-    lag_since: Option<(SimTime, SimDuration)>,
-    /// The worst member's distance to its slot at the latest cycle, metres.
-    worst: f64,
-    /// The leader's own walking speed, m/s.
-    walk: f64,
-    /// Per slot at the discrete level: the slot last looked up and its nearest node.
-    nodes: Vec<Option<(P2, P2)>>,
-    gathered: bool,
-    pace: Option<Pace>,
-    contact: Option<(SimTime, P2)>,
-    ground: Ground,
-    /// When the ground is next looked at.
-    next_look: SimTime,
-    pose: Option<Pose>,
-    mover: Mover,
-    next_log: SimTime,
-    log: Vec<TrackPoint>,
-    switches: Vec<Switch>,
-    arrivals: Vec<Arrival>,
-    problems: Vec<String>,
-}
 
 /// The squad leader (a [`Controller`]): see the [module docs](super) for what it does and
 /// the radio protocol.

@@ -3,7 +3,7 @@
 //!
 //! Every check adds its problem and goes on, so one pass reports them all.
 
-use super::load::Loaded;
+use super::loaded::Loaded;
 use super::span::{Diagnostic, SourceMap};
 use super::{EntityType, ScenarioFile, SideSpec, VisionSpec};
 use std::collections::BTreeMap;

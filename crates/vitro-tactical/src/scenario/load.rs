@@ -5,6 +5,7 @@
 //! `[[entity]]` on its own; then the semantic checks of [`check`](super::check).
 
 use super::check::{check_file, check_site};
+use super::loaded::Loaded;
 use super::span::{Diagnostic, Diagnostics, SourceMap};
 use super::{
     ChannelSpec, EndSpec, EntitySpec, FidelitySpec, FormationSpec, MissionSpec, PatrolSpec, Places,
@@ -12,12 +13,10 @@ use super::{
 };
 use serde::Deserialize as _;
 use serde::de::DeserializeOwned;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue, ValueDeserializer};
-use vitro_site::map::{MapConfig, TownMap};
-use vitro_site::site::{Site, SiteConfig};
-use vitro_site::terrain::Terrain;
+use vitro_site::site::Site;
 
 /// The keys of a scenario file's top level, in the order of [`ScenarioFile`]'s fields.
 pub const TOP_LEVEL_KEYS: [&str; 15] = [
@@ -37,23 +36,6 @@ pub const TOP_LEVEL_KEYS: [&str; 15] = [
     "formation",
     "record",
 ];
-
-/// A scenario file read and checked, with its paths resolved.
-#[derive(Clone, Debug)]
-pub struct Loaded {
-    /// The scenario.
-    pub file: ScenarioFile,
-    /// The scenario file's path, as it was named.
-    pub path: PathBuf,
-    /// The map, absolute.
-    pub map: PathBuf,
-    /// The terrain, absolute.
-    pub terrain: PathBuf,
-    /// The formation rule file, absolute (none: the built-in rules).
-    pub program: Option<PathBuf>,
-    /// The file's text.
-    pub source: String,
-}
 
 /// A scenario file read and checked against its site, with the site built.
 #[derive(Debug)]
@@ -118,43 +100,6 @@ impl ScenarioFile {
             }
         }
         Err(Diagnostics::new(problems))
-    }
-}
-
-impl Loaded {
-    /// Builds the town on its terrain at the scenario's offset; problems point at `[site]`.
-    pub fn site(&self) -> Result<Site, Diagnostics> {
-        let map = SourceMap::new(&self.path, &self.source);
-        let town = TownMap::load(&self.map, &MapConfig::default()).map_err(|e| {
-            one(map.at(
-                "site.map",
-                format!("cannot load the map: {e}"),
-                "an OpenStreetMap .osm.pbf file",
-            ))
-        })?;
-        let ground = Terrain::load(&self.terrain).map_err(|e| {
-            one(map.at(
-                "site.terrain",
-                format!("cannot load the terrain: {e}"),
-                "an ESRI ASCII grid (.asc) or a GeoTIFF",
-            ))
-        })?;
-        let config = SiteConfig {
-            offset: self.file.site.offset,
-            ..SiteConfig::default()
-        };
-        Site::new(town, ground, &config).map_err(|e| {
-            let key = if self.file.site.offset.is_some() {
-                "site.offset"
-            } else {
-                "site.terrain"
-            };
-            one(map.at(
-                key,
-                format!("cannot set the town on the terrain: {e}"),
-                "an offset that keeps the whole town on the terrain",
-            ))
-        })
     }
 }
 

@@ -33,10 +33,12 @@
 mod check;
 mod kind;
 mod load;
+mod loaded;
 mod span;
 
 pub use check::{ALTITUDE_M, MAX_COUNT, MAX_END_S};
-pub use load::{Loaded, TOP_LEVEL_KEYS, Validated};
+pub use load::{TOP_LEVEL_KEYS, Validated};
+pub use loaded::Loaded;
 pub use span::{Diagnostic, Diagnostics, SourceMap};
 
 use crate::entity::Level;

@@ -2,7 +2,7 @@
 //! and acceleration limits of vehicles, corner speeds, the Pandolf load-speed relation of
 //! troopers, turn radii of fixed-wing aircraft, rotor and inertia figures of helicopters.
 
-use super::{G, RHO_AIR, TRACTION, TroopKind};
+use super::kinds::{G, RHO_AIR, TRACTION, TroopKind};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of a ground vehicle type.

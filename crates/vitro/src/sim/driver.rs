@@ -1,9 +1,9 @@
 //! The simulation driver: fires events, paces them, obeys the control handle.
 
-use super::context::{Context, EventOnly};
+use super::agent::{Agent, Input, Model};
+use super::agent::{Context, EventOnly};
 use super::control::{Clock, Control, ControlState, WallClock};
 use super::kernel::{Kernel, Queued};
-use super::{Agent, Input, Model};
 use crate::comm::Network;
 use crate::entity::{CapabilityRegister, Entities, EntityError, EntityId};
 use crate::env::Effects;

@@ -4,7 +4,7 @@
 //! random numbers, same trace hash. Listeners, the control handle and the clock are not part of
 //! the state and must be set again.
 
-use super::Model;
+use super::agent::Model;
 use super::driver::Simulation;
 use super::kernel::Kernel;
 use serde::Serialize;

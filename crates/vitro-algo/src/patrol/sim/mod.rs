@@ -24,7 +24,6 @@
 //! (the units are Markov), so the centred outcomes are martingale differences in `[−1, 1]`
 //! of range 1 and the Azuma–Hoeffding bound is the same.
 
-mod attack;
 mod world;
 
 use std::sync::Arc;
@@ -36,12 +35,10 @@ use vitro::rng::Owner;
 use super::{Instance, PatrolError, PatrolPlan};
 use crate::graph::NodeId;
 
-pub use attack::{AttackChoice, AttackOrder, best_replies, worst_choices};
-use attack::{Attacker, tables};
+pub use world::{AttackChoice, AttackOrder, best_replies, worst_choices};
+use world::{Attacker, STEP, tables};
 pub use world::{PatrolAgent, PatrolEvent, PatrolModel, PatrolWorld, Sighting, Watch};
 
-/// One step of the game in simulated time.
-const STEP: SimDuration = SimDuration::from_secs(1);
 /// When the attacker looks, after the step's moves.
 const LOOK: SimDuration = SimDuration::from_millis(500);
 

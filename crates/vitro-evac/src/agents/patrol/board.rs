@@ -1,9 +1,9 @@
 //! The patrol game's board: the route's checkpoints and the patrol graph, the convoy's
 //! timetable, and the targets.
 
-use super::{REACH_SHARE, SPACING_M};
-use crate::MissionError;
+use crate::agents::cover::SPACING_M;
 use crate::brief::Brief;
+use crate::error::MissionError;
 use vitro::env::NodeId as StreetNode;
 use vitro_algo::graph::{Graph, NodeId};
 use vitro_algo::patrol::{Target, TargetPosition};
@@ -11,6 +11,10 @@ use vitro_site::geo::{P2, dist};
 use vitro_site::map::Mode;
 use vitro_tactical::entity::route::Track;
 use vitro_tactical::types::{GroundKind, TroopKind, TypeBook, VtolKind};
+
+/// Share of the distance a Skeldar cruises in one patrol step that an edge may span (the
+/// rest is left for turns and acceleration).
+pub const REACH_SHARE: f64 = 0.8;
 
 /// The game's board and timetable, before solving.
 pub(super) struct Board {

@@ -52,8 +52,8 @@
 //! map is where its policy puts it in the long run at the current phase
 //! ([`PatrolGame::heat`]).
 
-use crate::MissionError;
 use crate::brief::Brief;
+use crate::error::MissionError;
 use board::{Board, project, targets};
 use rand::Rng;
 use std::sync::{Arc, Mutex};
@@ -64,11 +64,10 @@ use vitro_tactical::types::TypeBook;
 
 mod board;
 
+pub use board::REACH_SHARE;
+
 /// Spacing of the patrol checkpoints along the route, metres.
 pub const SPACING_M: f64 = super::cover::SPACING_M;
-/// Share of the distance a Skeldar cruises in one patrol step that an edge may span (the
-/// rest is left for turns and acceleration).
-pub const REACH_SHARE: f64 = 0.8;
 /// How far (metres along the route) the truck may be from where the timetable expects it
 /// before the patrol holds (late) or skips ahead (early): half a checkpoint spacing, the
 /// game's own resolution.

@@ -1,7 +1,7 @@
 //! The leader's modules as the rule interpreter sees them: `eyes`, `squad` and `route` (their
 //! queries and updates are listed in `data/rules/formation/leader.jz`).
 
-use super::{EYES, Lag, MODULES, Pace, ROUTE, SQUAD, State};
+use super::state::{EYES, Lag, MODULES, Pace, ROUTE, SQUAD, State};
 use crate::entity::Level;
 use crate::formation::kb::{self, answers, atom, fact};
 use crate::formation::motion::xy;

@@ -2,7 +2,7 @@
 //! (spliced onto the route under way when no node is in a straight line), and the
 //! entity numbers of `join` / `leave`.
 
-use super::{Route, State};
+use super::state::{Route, State};
 use crate::arena::OwnPose;
 use crate::entity::Level;
 use crate::formation::motion::{Follow, xy};

@@ -16,7 +16,7 @@
 //! what the queue observes (mean gap between pops, mean distance of pushes ahead of now) and
 //! revised at most once per `max(len, 64)` pops; a revision rebuilds the tiers in O(len).
 
-use super::{BUCKETS, CHUNK, Entry, Head, NIL, RadixHeap};
+use super::radix::{BUCKETS, CHUNK, Entry, Head, NIL, RadixHeap};
 
 /// Most days in the ring (the bitmap is 64 words and a one-word summary).
 pub(super) const MAX_DAYS: usize = 4096;
@@ -174,7 +174,7 @@ impl Calendar {
             occupied: [0; MAX_DAYS / 64],
             summary: 0,
             // Keys from the horizon on (the first key of the last day if it is beyond time).
-            far: RadixHeap::new(horizon.min(u128::from(u64::MAX)) << 64),
+            far: RadixHeap::new(horizon.min(u128::from(u64::MAX)) << 64, MAX_DAYS),
             far_min: NO_TIME,
             len: 0,
             len_at_revision: 0,
@@ -385,7 +385,7 @@ impl Calendar {
         let entries: Vec<Entry> = if keep_far {
             let entries = self.near().copied().collect();
             self.far.clear_lists(BUCKETS..BUCKETS + self.days);
-            new.far = std::mem::replace(&mut self.far, RadixHeap::new(0));
+            new.far = std::mem::replace(&mut self.far, RadixHeap::new(0, MAX_DAYS));
             new.far_min = self.far_min;
             entries
         } else {

@@ -1,8 +1,10 @@
-//! The agent's window on the world: sensors, actuators, time, messages, random streams.
+//! What an agent is: the [`Model`] it belongs to, the [`Input`]s it receives and the
+//! [`Context`] it acts through (sensors, actuators, scheduling of its own events, messages,
+//! random streams; never the environment itself). The three name each other, so they live
+//! in one file.
 
-use super::Model;
 use super::kernel::{Kernel, Queued};
-use crate::comm::{Envelope, GroupId, Network, Outgoing, Route};
+use crate::comm::{DeliveryError, Envelope, GroupId, Network, Outgoing, Route};
 use crate::entity::{CapabilityRegister, EntityId};
 use crate::env::{Actuator, Effects, Probe, Sensor};
 use crate::event::{EventId, Schedule, ScheduleError, Target};
@@ -10,6 +12,63 @@ use crate::rng::Owner;
 use crate::time::{SimDuration, SimTime};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
+
+/// The types of one simulation model, and its environment's behaviour.
+pub trait Model: Sized + 'static {
+    /// The environment: every storage of the world.
+    type Env;
+    /// Event payloads (typed; stored inline in the queue, no box per event).
+    type Event: Serialize;
+    /// Message contents.
+    type Msg: Clone + Serialize;
+    /// The agents (a single type, or an enum of agent kinds: dispatch stays static).
+    type Agent: Agent<Self>;
+
+    /// Handles an event targeted at the environment ([`Target::Env`](crate::event::Target)):
+    /// physics steps, delayed actuator effects. Does nothing by default.
+    fn on_env_event(env: &mut Self::Env, event: &Self::Event, fx: &mut Effects<'_, Self::Event>) {
+        let _ = (env, event, fx);
+    }
+
+    /// The position sensor used by range-limited channels: where `who` is at `now` (models
+    /// that move bodies by events may interpolate). `None` by default (no position).
+    fn locate(env: &Self::Env, who: EntityId, now: SimTime) -> Option<[f64; 3]> {
+        let _ = (env, who, now);
+        None
+    }
+
+    /// A digest of the environment's state changes so far (combine the storages'
+    /// `digest()`s). Part of the trace hash. Zero by default.
+    fn state_digest(env: &Self::Env) -> u64 {
+        let _ = env;
+        0
+    }
+}
+
+/// What an agent is woken by.
+pub enum Input<'a, M: Model> {
+    /// An event targeted at this agent, or broadcast.
+    Event(&'a M::Event),
+    /// A message delivered to this agent.
+    Message(&'a Envelope<M::Msg>),
+    /// A message this agent sent that could not be delivered.
+    Undeliverable(&'a Envelope<M::Msg>, DeliveryError),
+    /// A timer this agent set ([`Context::set_timer`]) with its key.
+    Timer(u64),
+}
+
+impl<M: Model> Clone for Input<'_, M> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<M: Model> Copy for Input<'_, M> {}
+
+/// An agent: the brain of an entity. It reaches the world only through its [`Context`].
+pub trait Agent<M: Model> {
+    /// Reacts to one input.
+    fn handle(&mut self, input: Input<'_, M>, cx: &mut Context<'_, M>);
+}
 
 /// The simulated cost of thinking: `base + per_unit × units` (e.g. per search node expanded).
 ///

@@ -1,0 +1,162 @@
+//! # vitro-mission: missions as plug-ins
+//!
+//! A mission is an application of the toolkit: its own agents, briefing, referee and scenario
+//! tables on the shared site and tactical environment. The tools (`vitro run`, `validate`,
+//! `batch`, `view`, `--record`, `export`, `search`, the Python package) know no mission by
+//! name: they read a scenario file's `kind`, look the kind up in a [`Registry`], and drive
+//! the [`Mission`] registered under it through one small interface.
+//!
+//! A mission crate implements two traits:
+//!
+//! - [`Mission`], the kind: validates a scenario text and builds a [`Run`] from it;
+//! - [`Run`], one run of it: advances in simulated time, reports its [`Metric`]s, its trace
+//!   hash and a human summary, and draws itself for recordings and the viewer
+//!   ([`Scene`] once, a [`Frame`] per sample).
+//!
+//! Scenario files name their kind on the first line that matters:
+//!
+//! ```toml
+//! kind = "evacuation"
+//! ```
+//!
+//! [`kind_of`] reads it (with file, line and column when it is missing, not a string, or
+//! unknown) so every tool reports a wrong file the same way.
+//!
+//! ```
+//! use std::path::Path;
+//! use vitro_mission::{kind_of, KindError};
+//!
+//! let kinds = ["demo", "evacuation"];
+//! let file = Path::new("scenario.toml");
+//! assert_eq!(kind_of(file, "kind = \"demo\"\nseed = 7\n", &kinds).unwrap(), "demo");
+//! let e = kind_of(file, "seed = 7\n", &kinds).unwrap_err();
+//! assert!(matches!(e, KindError::Missing { .. }));
+//! assert_eq!(
+//!     e.to_string(),
+//!     "scenario.toml:1:1: the scenario names no kind (expected a top-level key `kind = \"...\"`, one of: demo, evacuation)"
+//! );
+//! ```
+
+mod kind;
+mod metric;
+mod registry;
+
+pub use kind::{KindError, kind_of};
+pub use metric::Metric;
+pub use registry::{Registry, RegistryError};
+
+use std::path::Path;
+use vitro::sim::Control;
+use vitro::time::{SimDuration, SimTime};
+pub use vitro_record::{Frame, Scene};
+
+/// How a run is built: overrides of the scenario's own settings.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BuildOptions {
+    /// Master seed (overrides the scenario's).
+    pub seed: Option<u64>,
+    /// Fidelity level for every entity (one of [`Mission::fidelity_levels`]).
+    pub fidelity: Option<String>,
+}
+
+/// Why a mission could not be validated or built.
+#[derive(Debug, thiserror::Error)]
+pub enum MissionError {
+    /// The scenario has problems (bad input): every line names file, line and column.
+    #[error("{0}")]
+    Scenario(String),
+    /// The scenario is valid but the run cannot be set up (a runtime failure).
+    #[error("{0}")]
+    Setup(String),
+}
+
+/// A run that broke while running (an agent failed, the state is inconsistent): a runtime
+/// failure, not a verdict on the mission.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct RunFailed(pub String);
+
+/// A kind of mission: the entry a mission crate registers.
+pub trait Mission: Sync {
+    /// The scenario files' `kind` for this mission (e.g. `"evacuation"`).
+    fn kind(&self) -> &'static str;
+    /// One line on what the mission is.
+    fn about(&self) -> &'static str;
+    /// The fidelity presets [`BuildOptions::fidelity`] may name (empty: none).
+    fn fidelity_levels(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// Checks a scenario text as if read from `path` (relative paths in it resolve from the
+    /// file's directory); returns a one-line summary of what it describes.
+    ///
+    /// # Errors
+    /// [`MissionError::Scenario`] with every problem found.
+    fn validate(&self, path: &Path, text: &str) -> Result<String, MissionError>;
+    /// Builds a run of the scenario text read from `path`.
+    ///
+    /// # Errors
+    /// [`MissionError::Scenario`] for problems in the file or the options,
+    /// [`MissionError::Setup`] when a valid scenario cannot be set up.
+    fn build(
+        &self,
+        path: &Path,
+        text: &str,
+        options: &BuildOptions,
+    ) -> Result<Box<dyn Run>, MissionError>;
+    /// The names [`Run::metrics`] returns, in the same order (batch summary columns).
+    fn metric_names(&self) -> Vec<&'static str>;
+}
+
+/// One run of a mission, driven by a tool.
+///
+/// A run is deterministic: the same scenario, options and calls give the same trace hash,
+/// whatever the pacing or the thread it runs on.
+pub trait Run {
+    /// The scenario's name.
+    fn name(&self) -> String;
+    /// The master seed.
+    fn seed(&self) -> u64;
+    /// When the run ends.
+    fn end(&self) -> SimTime;
+    /// Ends the run earlier (or later) than the scenario says.
+    fn set_end(&mut self, end: SimTime);
+    /// Simulated time between samples (frames, series rows, progress).
+    fn sample(&self) -> SimDuration;
+    /// The simulated time reached.
+    fn now(&self) -> SimTime;
+    /// Runs up to `until` (events at that time included); `Ok(false)` once the run is over
+    /// (its end, its own end condition, or nothing left to happen).
+    ///
+    /// # Errors
+    /// [`RunFailed`] if the run broke (an agent failed, the state is inconsistent).
+    fn advance(&mut self, until: SimTime) -> Result<bool, RunFailed>;
+    /// The simulation's control handle (pacing, pause, stop).
+    fn control(&self) -> Control;
+    /// The trace hash so far.
+    fn trace_hash(&self) -> u64;
+    /// The metrics so far, named as [`Mission::metric_names`] says, in that order.
+    fn metrics(&self) -> Vec<(&'static str, Metric)>;
+    /// The run's own fields of `vitro run --json` (the tool adds the scenario's name, the
+    /// seed, the trace hash and the wall-clock figures): by default the metrics.
+    fn report(&self) -> serde_json::Map<String, serde_json::Value> {
+        self.metrics()
+            .into_iter()
+            .map(|(k, v)| (k.to_owned(), serde_json::to_value(v).unwrap_or_default()))
+            .collect()
+    }
+    /// The mission's verdict on the run so far: `Err` with why it failed (the tools exit
+    /// with code 4), `Ok` otherwise.
+    fn verdict(&self) -> Result<(), String> {
+        Ok(())
+    }
+    /// The human summary: labelled lines, e.g. `("outcome", "SUCCESS: ...")`.
+    fn summary(&self) -> Vec<(String, String)>;
+    /// The static world, drawn once.
+    fn scene(&self) -> Scene;
+    /// The state now. Must not change the run.
+    fn frame(&mut self) -> Frame;
+    /// What happened since the last call, as (simulated seconds, line), for `--verbose`.
+    fn drain_log(&mut self) -> Vec<(f64, String)> {
+        Vec::new()
+    }
+}

@@ -1,0 +1,142 @@
+//! Discrete trips: the track a body follows from node to goal (planned once per arena, then
+//! shared), the hop events along it, and the answer when it has arrived.
+
+use crate::arena::{Arena, Ev};
+use crate::entity::discrete::{NodeKind, Trip};
+use crate::entity::roads::RouteError;
+use crate::entity::route::Track;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+use vitro::entity::EntityId;
+use vitro::env::{Effects, NodeId};
+use vitro::event::Target;
+use vitro::time::SimDuration;
+
+/// Why an actuator refused a command.
+#[derive(Clone, Debug, PartialEq, thiserror::Error, Serialize, Deserialize)]
+pub enum MoveError {
+    /// The entity has no body this actuator can move.
+    #[error("entity {0:?} has no body this actuator moves")]
+    NoBody(EntityId),
+    /// The body is on a trip; it takes a new goal once it has arrived.
+    #[error("entity {0:?} is under way")]
+    UnderWay(EntityId),
+    /// No route.
+    #[error(transparent)]
+    Route(#[from] RouteError),
+}
+
+/// Tells `who` it reached `goal`, now.
+pub(crate) fn arrived(who: EntityId, goal: NodeId, fx: &mut Effects<'_, Ev>) {
+    fx.schedule_in(SimDuration::ZERO, Target::Entity(who), Ev::Arrived(goal));
+}
+
+/// The track from `from` to `goal` for a body of `kind` (planned once per arena, then
+/// shared).
+pub(crate) fn plan(
+    w: &mut Arena,
+    kind: NodeKind,
+    from: NodeId,
+    goal: NodeId,
+) -> Result<Arc<Track>, MoveError> {
+    let (site, roads, types) = (&w.site, &w.roads, &w.types);
+    w.tracks.get_or_plan((kind, from, goal), || {
+        let roads = roads.of(kind.mode());
+        let path = roads.path(from, goal)?;
+        Ok(match kind {
+            NodeKind::Ground(k) => {
+                Track::plan_vehicle(site, roads, &path, types.ground(k), &types.speed_limits)?
+            }
+            NodeKind::Troop(k) => {
+                Track::plan_walk(site, roads, &path, &types.troops, types.troops.of(k).load)?
+            }
+        })
+    })
+}
+
+/// The discrete level's GoToNode / WalkToNode: plans the trip and schedules the first hop.
+/// `accepts` says which bodies this actuator moves.
+pub(crate) fn start_trip(
+    w: &mut Arena,
+    me: EntityId,
+    goal: NodeId,
+    accepts: fn(NodeKind) -> bool,
+    fx: &mut Effects<'_, Ev>,
+) -> Result<(), MoveError> {
+    let b = w
+        .at_node
+        .get(me)
+        .filter(|b| accepts(b.kind))
+        .ok_or(MoveError::NoBody(me))?;
+    if b.trip.is_some() {
+        return Err(MoveError::UnderWay(me));
+    }
+    if b.node == goal {
+        arrived(me, goal, fx);
+        return Ok(());
+    }
+    let (kind, from) = (b.kind, b.node);
+    let track = plan(w, kind, from, goal)?;
+    let trip = Trip {
+        goal,
+        next: 1,
+        pending: None,
+        track,
+    };
+    schedule_hop(w, me, trip, fx);
+    Ok(())
+}
+
+/// Schedules the hop to the trip's next node and records it in the body.
+fn schedule_hop(w: &mut Arena, me: EntityId, mut trip: Trip, fx: &mut Effects<'_, Ev>) {
+    let Some((next, secs)) = trip.next_hop() else {
+        return;
+    };
+    let id = fx.schedule_in(SimDuration::from_secs_f64(secs), Target::Env, Ev::Hop(me));
+    trip.pending = Some(id);
+    let (from, to) = {
+        let b = w.at_node.get(me);
+        let mode = b.map(|b| b.kind.mode());
+        let node = b.map(|b| b.node);
+        (
+            mode.zip(node).and_then(|(m, n)| w.node_point(m, n)),
+            mode.and_then(|m| w.node_point(m, next)),
+        )
+    };
+    w.at_node.update(me, |b| {
+        if let (Some(a), Some(c)) = (from, to) {
+            let d = vitro_site::geo::dist([a[0], a[1]], [c[0], c[1]]);
+            if d > 0.0 {
+                b.heading = libm::atan2(c[1] - a[1], c[0] - a[0]);
+            }
+            b.speed = if secs > 0.0 { d / secs } else { 0.0 };
+        }
+        b.trip = Some(trip);
+    });
+}
+
+/// The environment's side of a discrete hop: the body reaches its next node.
+pub fn on_hop(w: &mut Arena, who: EntityId, fx: &mut Effects<'_, Ev>) {
+    let Some(mut trip) = w.at_node.get(who).and_then(|b| b.trip.clone()) else {
+        return;
+    };
+    let Some((node, _)) = trip.next_hop() else {
+        return;
+    };
+    trip.next += 1;
+    trip.pending = None;
+    let done = trip.next >= trip.track.nodes.len();
+    let goal = trip.goal;
+    w.at_node.update(who, |b| {
+        b.node = node;
+        if done {
+            b.trip = None;
+            b.speed = 0.0;
+        }
+    });
+    if done {
+        arrived(who, goal, fx);
+    } else {
+        schedule_hop(w, who, trip, fx);
+    }
+}

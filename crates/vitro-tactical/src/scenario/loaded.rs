@@ -1,0 +1,62 @@
+//! A scenario file read and checked, with its paths resolved: what building its site needs.
+
+use super::ScenarioFile;
+use super::span::{Diagnostics, SourceMap};
+use std::path::PathBuf;
+use vitro_site::map::{MapConfig, TownMap};
+use vitro_site::site::{Site, SiteConfig};
+use vitro_site::terrain::Terrain;
+
+/// A scenario file read and checked, with its paths resolved.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The scenario.
+    pub file: ScenarioFile,
+    /// The scenario file's path, as it was named.
+    pub path: PathBuf,
+    /// The map, absolute.
+    pub map: PathBuf,
+    /// The terrain, absolute.
+    pub terrain: PathBuf,
+    /// The formation rule file, absolute (none: the built-in rules).
+    pub program: Option<PathBuf>,
+    /// The file's text.
+    pub source: String,
+}
+
+impl Loaded {
+    /// Builds the town on its terrain at the scenario's offset; problems point at `[site]`.
+    pub fn site(&self) -> Result<Site, Diagnostics> {
+        let map = SourceMap::new(&self.path, &self.source);
+        let town = TownMap::load(&self.map, &MapConfig::default()).map_err(|e| {
+            Diagnostics(vec![map.at(
+                "site.map",
+                format!("cannot load the map: {e}"),
+                "an OpenStreetMap .osm.pbf file",
+            )])
+        })?;
+        let ground = Terrain::load(&self.terrain).map_err(|e| {
+            Diagnostics(vec![map.at(
+                "site.terrain",
+                format!("cannot load the terrain: {e}"),
+                "an ESRI ASCII grid (.asc) or a GeoTIFF",
+            )])
+        })?;
+        let config = SiteConfig {
+            offset: self.file.site.offset,
+            ..SiteConfig::default()
+        };
+        Site::new(town, ground, &config).map_err(|e| {
+            let key = if self.file.site.offset.is_some() {
+                "site.offset"
+            } else {
+                "site.terrain"
+            };
+            Diagnostics(vec![map.at(
+                key,
+                format!("cannot set the town on the terrain: {e}"),
+                "an offset that keeps the whole town on the terrain",
+            )])
+        })
+    }
+}
