@@ -89,9 +89,16 @@ fn runner_for(experiment: &std::path::Path) -> Box<dyn Runner> {
         .and_then(|t| t.get("scenario")?.as_str().map(str::to_owned));
     let dir = experiment.parent().unwrap_or(std::path::Path::new(""));
     match scenario.map(|s| dir.join(s)) {
-        Some(path) if crate::mission::is_mission(&path) => Box::new(MissionRunner { path }),
+        Some(path) if is_evacuation(&path) => Box::new(MissionRunner { path }),
         _ => Box::new(DemoRunner),
     }
+}
+
+/// True if the scenario at `path` names the evacuation as its kind.
+fn is_evacuation(path: &std::path::Path) -> bool {
+    crate::missions::registry()
+        .read(path)
+        .is_ok_and(|(m, _)| m.kind() == "evacuation")
 }
 
 pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {

@@ -23,7 +23,7 @@ mod check;
 mod export;
 mod failure;
 mod map;
-mod mission;
+mod missions;
 mod plan;
 mod record;
 mod run;

@@ -3,7 +3,7 @@
 
 use anyhow::Context as _;
 use std::path::Path;
-use vitro_evac::Mission;
+use vitro_mission::Run;
 
 /// A recording under way.
 pub(crate) struct Recording {
@@ -11,17 +11,15 @@ pub(crate) struct Recording {
 }
 
 impl Recording {
-    /// Starts a recording of `mission` at `path` (writes the scene).
-    pub(crate) fn create(path: &Path, mission: &Mission) -> anyhow::Result<Recording> {
-        let rec = vitro_record::Recorder::create(path, &mission.scene())
+    /// Starts a recording of `run` at `path` (writes the scene).
+    pub(crate) fn create(path: &Path, run: &dyn Run) -> anyhow::Result<Recording> {
+        let rec = vitro_record::Recorder::create(path, &run.scene())
             .with_context(|| format!("cannot record to {}", path.display()))?;
         Ok(Recording { rec })
     }
-    /// Records the mission's current frame.
-    pub(crate) fn frame(&mut self, mission: &mut Mission) -> anyhow::Result<()> {
-        self.rec
-            .frame(&mission.frame())
-            .context("writing a frame")?;
+    /// Records the run's current frame.
+    pub(crate) fn frame(&mut self, run: &mut dyn Run) -> anyhow::Result<()> {
+        self.rec.frame(&run.frame()).context("writing a frame")?;
         Ok(())
     }
     /// Ends the recording (writes the MCAP summary).

@@ -1,150 +1,159 @@
-//! `vitro run` and `vitro validate` of the patrolling-cars demo; mission scenarios go to
-//! [`crate::mission`].
+//! `vitro run`: builds the scenario's mission (looked up by its `kind`), runs it (paced or
+//! not, recorded or not) and prints a summary or one JSON object.
 
 use crate::Failure;
+use crate::missions::{failure, registry};
+use crate::record::Recording;
 use crate::run_args::RunArgs;
 use anyhow::Context as _;
-use serde::Serialize;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
 use std::time::Instant;
-use vitro_demo::config::{ConfigError, DemoConfig, MAX_END_S};
-use vitro_demo::{DemoError, Metrics, Scenario};
+use vitro::time::{SimDuration, SimTime};
+use vitro_mission::{BuildOptions, Run};
 
-/// What `vitro run --json` prints.
-#[derive(Serialize)]
-struct Report<'a> {
-    #[serde(flatten)]
-    metrics: &'a Metrics,
-    wall_time_s: f64,
-    events_per_wall_s: f64,
-    sim_s_per_wall_s: f64,
-    speed: Option<f64>,
-}
-
-/// Loads a scenario; every problem is bad input.
-fn load(path: &std::path::Path) -> Result<DemoConfig, Failure> {
-    DemoConfig::load(path).map_err(|e| match e {
-        ConfigError::Read { .. } => Failure::Input(e.into()),
-        ConfigError::Content(d) => {
-            Failure::Input(anyhow::Error::new(*d).context("invalid scenario"))
-        }
-    })
-}
-
-pub(crate) fn validate(path: &std::path::Path) -> Result<(), Failure> {
-    let cfg = load(path)?;
-    let scenario = Scenario::build(cfg).map_err(|e| Failure::Input(e.into()))?;
-    let m = scenario.metrics();
-    println!(
-        "{}: ok ({} junctions, {} streets, {} cars, {} simulated seconds)",
-        path.display(),
-        m.junctions,
-        m.streets,
-        m.cars,
-        scenario.config().end_s
-    );
-    Ok(())
-}
+/// The longest run `--until` accepts, simulated seconds.
+const MAX_UNTIL_S: f64 = 1.0e6;
 
 pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
-    if crate::mission::is_mission(&args.scenario) {
-        return crate::mission::run(args);
-    }
-    if args.record.is_some() {
-        return Err(Failure::Input(anyhow::anyhow!(
-            "--record: only mission scenarios can be recorded"
-        )));
-    }
-    let mut cfg = load(&args.scenario)?;
-    if let Some(seed) = args.seed {
-        cfg.seed = seed;
-    }
+    let options = BuildOptions {
+        seed: args.seed,
+        fidelity: args.fidelity.clone(),
+    };
+    let mut run = registry()
+        .build(&args.scenario, &options)
+        .map_err(|e| failure(&args.scenario, e))?;
     if let Some(until) = args.until {
-        if !(until > 0.0 && until <= MAX_END_S) {
+        if !(until > 0.0 && until <= MAX_UNTIL_S) {
             return Err(Failure::Input(anyhow::anyhow!(
-                "--until {until}: expected a number of simulated seconds in (0, {MAX_END_S:e}]"
+                "--until {until}: expected a number of simulated seconds in (0, {MAX_UNTIL_S:e}]"
             )));
         }
-        cfg.end_s = until;
+        run.set_end(run.end().min(SimTime::from_secs_f64(until)));
     }
-    let mut scenario = Scenario::build(cfg).map_err(|e| match e {
-        DemoError::Invalid(_) => Failure::Input(e.into()),
-        _ => Failure::Runtime(anyhow::Error::new(e).context("cannot build the scenario")),
-    })?;
     if let Some(speed) = args.speed {
-        scenario
-            .simulation()
-            .control()
+        run.control()
             .set_speed(speed)
             .context("--speed")
             .map_err(Failure::Input)?;
     }
-    if !args.quiet && !args.json {
-        let c = scenario.config();
+    let chatty = !args.quiet && !args.json;
+    if chatty {
         eprintln!(
-            "running {:?} from {} (seed {}, {} s simulated{})",
-            c.name,
+            "running {:?} from {} (seed {}, at most {:.0} s simulated{})",
+            run.name(),
             args.scenario.display(),
-            c.seed,
-            c.end_s,
+            run.seed(),
+            run.end().as_secs_f64(),
             args.speed
                 .map(|s| format!(", paced at {s}x"))
                 .unwrap_or_default()
         );
     }
-    let started = Instant::now();
-    let outcome = scenario.run();
-    let wall = started.elapsed().as_secs_f64();
-    outcome
-        .with_context(|| format!("running {}", args.scenario.display()))
-        .map_err(Failure::Runtime)?;
-    let m = scenario.metrics();
-    let per_wall = |x: f64| if wall > 0.0 { x / wall } else { 0.0 };
-    let report = Report {
-        metrics: &m,
-        wall_time_s: wall,
-        events_per_wall_s: per_wall(m.events as f64),
-        sim_s_per_wall_s: per_wall(m.sim_time_s),
-        speed: args.speed,
+    let bar = (chatty && std::io::stderr().is_terminal()).then(|| {
+        let b = ProgressBar::new(run.end().as_secs_f64() as u64);
+        b.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} s simulated, {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        b
+    });
+    let mut recorder = match &args.record {
+        Some(path) => Some(Recording::create(path, run.as_ref()).map_err(Failure::Runtime)?),
+        None => None,
     };
+    let started = Instant::now();
+    let chunk = run.sample().max(SimDuration::from_secs(1));
+    let mut t = SimTime::ZERO;
+    loop {
+        t += chunk;
+        let going = run
+            .advance(t.min(run.end()))
+            .with_context(|| format!("running {}", args.scenario.display()))
+            .map_err(Failure::Runtime)?;
+        if let Some(r) = recorder.as_mut() {
+            r.frame(run.as_mut()).map_err(Failure::Runtime)?;
+        }
+        let log = run.drain_log();
+        if args.verbose {
+            for (at, line) in log {
+                eprintln!("{at:8.1} s  {line}");
+            }
+        }
+        if let Some(b) = &bar {
+            b.set_position(run.now().as_secs_f64() as u64);
+            b.set_message(format!("{} events", run.control().events_fired()));
+        }
+        if !going || t >= run.end() {
+            break;
+        }
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    if let Some(r) = recorder {
+        r.finish().map_err(Failure::Runtime)?;
+    }
+    let wall = started.elapsed().as_secs_f64();
+    let report = report(run.as_ref(), wall, args.speed);
     if args.json {
         let line = serde_json::to_string(&report)
             .context("encoding the report")
             .map_err(Failure::Runtime)?;
         println!("{line}");
     } else if args.quiet {
-        println!("{:016x}", m.trace_hash);
+        println!("{:016x}", run.trace_hash());
     } else {
-        print_summary(&report);
+        print_summary(run.as_ref(), wall);
     }
-    Ok(())
+    run.verdict()
+        .map_err(|why| Failure::Check(anyhow::anyhow!(why)))
 }
 
-fn print_summary(r: &Report<'_>) {
-    let m = r.metrics;
-    println!("scenario     {} (seed {})", m.scenario, m.seed);
-    println!(
-        "world        {} junctions, {} streets, {} cars",
-        m.junctions, m.streets, m.cars
+/// What `vitro run --json` prints: the run's own fields, then the scenario, the seed, the
+/// trace hash and the wall-clock figures.
+fn report(run: &dyn Run, wall: f64, speed: Option<f64>) -> serde_json::Value {
+    let per_wall = |x: f64| if wall > 0.0 { x / wall } else { 0.0 };
+    let events = run.control().events_fired();
+    let sim_s = run.now().as_secs_f64();
+    let mut out = run.report();
+    out.entry("scenario").or_insert_with(|| run.name().into());
+    out.insert("seed".into(), run.seed().into());
+    out.insert("events".into(), events.into());
+    out.entry("sim_time_s").or_insert_with(|| sim_s.into());
+    out.insert(
+        "trace_hash".into(),
+        format!("{:016x}", run.trace_hash()).into(),
     );
+    out.insert("wall_time_s".into(), wall.into());
+    out.insert("events_per_wall_s".into(), per_wall(events as f64).into());
+    out.insert("sim_s_per_wall_s".into(), per_wall(sim_s).into());
+    out.insert("speed".into(), speed.into());
+    out.into()
+}
+
+/// The human summary: the scenario, the mission's own lines, the time and the trace hash.
+fn print_summary(run: &dyn Run, wall: f64) {
+    let lines = run.summary();
+    let width = lines
+        .iter()
+        .map(|(k, _)| k.len())
+        .chain([10])
+        .max()
+        .unwrap_or(10)
+        + 2;
+    let events = run.control().events_fired();
+    let sim_s = run.now().as_secs_f64();
+    let per_wall = |x: f64| if wall > 0.0 { x / wall } else { 0.0 };
+    println!("{:width$}{} (seed {})", "scenario", run.name(), run.seed());
+    for (label, line) in &lines {
+        println!("{label:width$}{line}");
+    }
     println!(
-        "time         {:.1} s simulated in {:.3} s wall ({:.0}x real time), stopped at {}",
-        m.sim_time_s, r.wall_time_s, r.sim_s_per_wall_s, m.stop
+        "{:width$}{sim_s:.1} s simulated in {wall:.3} s wall ({:.0}x real time), {events} events ({:.0}/s)",
+        "time",
+        per_wall(sim_s),
+        per_wall(events as f64)
     );
-    println!(
-        "events       {} ({:.0} per wall second)",
-        m.events, r.events_per_wall_s
-    );
-    println!(
-        "idleness     mean {:.1} s, worst {:.1} s ({} visits)",
-        m.mean_idleness_s, m.max_idleness_s, m.visits
-    );
-    println!(
-        "patrol       {} goals chosen, {} reached, {} given up to a better claim",
-        m.decisions, m.goals_reached, m.yielded
-    );
-    println!(
-        "messages     {} sent, {} received, {} lost, {} out of range",
-        m.messages_sent, m.messages_received, m.messages_lost, m.messages_bounced
-    );
-    println!("trace hash   {:016x}", m.trace_hash);
+    println!("{:width$}{:016x}", "trace hash", run.trace_hash());
 }

@@ -4,22 +4,22 @@
 //! simulated seconds per wall second, and serves the viewer on `--addr`; `vitro view
 //! RUN.mcap` replays a recording. The page, its scripts and three.js come from the binary.
 
-mod demo;
-mod mission;
+mod live;
 
 use crate::Failure;
+use crate::missions::{failure, registry};
 use anyhow::{Context as _, anyhow};
 use clap::Args;
 use std::io::Write as _;
 use std::net::SocketAddr;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use vitro::time::SimTime;
-use vitro_demo::Scenario;
-use vitro_demo::config::{ConfigError, DemoConfig, MAX_END_S};
-use vitro_evac::Mission;
-use vitro_tactical::scenario::ScenarioFile;
+use vitro_mission::BuildOptions;
 use vitro_viz::server::{Feed, serve};
 use vitro_viz::{LiveRun, McapRecording, Outcome, ReplayFeed, ViewError};
+
+/// The longest run `--until` accepts, simulated seconds.
+const MAX_UNTIL_S: f64 = 1.0e6;
 
 #[derive(Debug, Args)]
 pub(crate) struct ViewArgs {
@@ -57,27 +57,27 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
         Feed::Replay(feed)
     } else {
         let until = until_ns(args.until)?;
-        let run = if crate::mission::is_mission(&args.target) {
-            // A mission cannot move between threads: it is built on its simulation thread.
-            let validated = ScenarioFile::validate(&args.target).map_err(|d| {
-                Failure::Input(
-                    anyhow::Error::new(d)
-                        .context(format!("invalid scenario {}", args.target.display())),
-                )
-            })?;
-            let seed = args.seed.unwrap_or_else(|| seed_in(&args.target));
-            let given = args.seed;
-            let build = move || {
-                let mut m = Mission::build(validated, given)?;
-                if let Some(u) = until {
-                    m.end = m.end.min(SimTime::from_nanos(u));
-                }
-                Ok(mission::MissionSource::new(m, seed))
-            };
-            LiveRun::spawn(build, Some(args.speed), args.paused)
-        } else {
-            LiveRun::start(demo_source(args, until)?, Some(args.speed), args.paused)
+        // The scenario is checked here, so that bad input is reported before the server
+        // starts; the run is built on its simulation thread (a run need not move between
+        // threads).
+        registry()
+            .validate(&args.target)
+            .map_err(|e| failure(&args.target, e))?;
+        let (path, options) = (
+            args.target.clone(),
+            BuildOptions {
+                seed: args.seed,
+                fidelity: None,
+            },
+        );
+        let build = move || {
+            let mut run = registry().build(&path, &options)?;
+            if let Some(u) = until {
+                run.set_end(run.end().min(SimTime::from_nanos(u)));
+            }
+            Ok(live::RunSource::new(run))
         };
+        let run = LiveRun::spawn(build, Some(args.speed), args.paused);
         Feed::Live(run.map_err(|e| match e {
             ViewError::Speed(_) => Failure::Input(anyhow::Error::new(e).context("--speed")),
             e => Failure::Runtime(anyhow::Error::new(e).context("cannot start the run")),
@@ -150,41 +150,9 @@ fn report(o: &Outcome) {
 fn until_ns(until: Option<f64>) -> Result<Option<u64>, Failure> {
     match until {
         None => Ok(None),
-        Some(u) if u > 0.0 && u <= MAX_END_S => Ok(Some(SimTime::from_secs_f64(u).as_nanos())),
+        Some(u) if u > 0.0 && u <= MAX_UNTIL_S => Ok(Some(SimTime::from_secs_f64(u).as_nanos())),
         Some(u) => Err(Failure::Input(anyhow!(
-            "--until {u}: expected a number of simulated seconds in (0, {MAX_END_S:e}]"
+            "--until {u}: expected a number of simulated seconds in (0, {MAX_UNTIL_S:e}]"
         ))),
     }
-}
-
-/// The seed a scenario file states (0 if it states none: the mission's loader has already
-/// accepted the file).
-fn seed_in(path: &Path) -> u64 {
-    std::fs::read_to_string(path)
-        .ok()
-        .and_then(|t| t.parse::<toml::Table>().ok())
-        .and_then(|t| t.get("seed").and_then(toml::Value::as_integer))
-        .and_then(|s| u64::try_from(s).ok())
-        .unwrap_or(0)
-}
-
-fn demo_source(args: &ViewArgs, until: Option<u64>) -> Result<demo::DemoSource, Failure> {
-    let mut cfg = load_demo(&args.target)?;
-    if let Some(seed) = args.seed {
-        cfg.seed = seed;
-    }
-    if let Some(u) = until {
-        cfg.end_s = SimTime::from_nanos(u).as_secs_f64();
-    }
-    let scenario = Scenario::build(cfg).map_err(|e| Failure::Input(e.into()))?;
-    Ok(demo::DemoSource::new(scenario))
-}
-
-fn load_demo(path: &Path) -> Result<DemoConfig, Failure> {
-    DemoConfig::load(path).map_err(|e| match e {
-        ConfigError::Read { .. } => Failure::Input(e.into()),
-        ConfigError::Content(d) => {
-            Failure::Input(anyhow::Error::new(*d).context("invalid scenario"))
-        }
-    })
 }

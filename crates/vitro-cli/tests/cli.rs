@@ -142,34 +142,34 @@ fn rejects(file: &str, line_col: &str, expected: &str) {
 fn malformed_scenarios_exit_2_with_location() {
     rejects(
         "unknown_key.toml",
-        "9:1",
+        "10:1",
         "unknown field `row`, expected one of `columns`, `rows`",
     );
     rejects(
         "wrong_type.toml",
-        "14:9",
+        "15:9",
         "invalid type: string \"two\", expected u32",
     );
-    rejects("bad_syntax.toml", "13:6", "unclosed table, expected `]`");
+    rejects("bad_syntax.toml", "14:6", "unclosed table, expected `]`");
     rejects(
         "negative_count.toml",
-        "14:9",
+        "15:9",
         "invalid value: integer `-2`, expected u32",
     );
     rejects(
         "loss_above_one.toml",
-        "20:8",
+        "21:8",
         "invalid value 1.5 for `channel.loss`, expected a probability in [0, 1]",
     );
     rejects("missing_field.toml", "1:1", "missing field `seed`");
     rejects(
         "too_many_cars.toml",
-        "14:9",
+        "15:9",
         "expected a number of cars in 1..=11",
     );
     rejects(
         "zero_block.toml",
-        "9:11",
+        "10:11",
         "expected a length in metres in (0, 1e6]",
     );
 }

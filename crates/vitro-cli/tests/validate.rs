@@ -78,10 +78,10 @@ fn every_problem_is_shown_with_its_line() {
         "{err}"
     );
     assert!(
-        err.contains(&format!("{path}:18:1: the mission has no blue trooper")),
+        err.contains(&format!("{path}:19:1: the mission has no blue trooper")),
         "{err}"
     );
-    assert!(err.contains("27 | count = 0\n   |         ^"), "{err}");
+    assert!(err.contains("28 | count = 0\n   |         ^"), "{err}");
     // Syntax errors the parser recovers from are all reported too.
     let (code, _, err) = vitro(&["validate", &format!("{BAD}/syntax_unclosed_table.toml")]);
     assert_eq!(code, 2);

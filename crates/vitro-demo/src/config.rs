@@ -40,6 +40,9 @@ use toml::de::DeTable;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DemoConfig {
+    /// The kind of scenario, `"demo"`: the tools pick the mission by it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
     /// A short name shown in reports.
     #[serde(default = "default_name")]
     pub name: String,

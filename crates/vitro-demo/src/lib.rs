@@ -157,6 +157,10 @@ impl Scenario {
     pub fn end(&self) -> SimTime {
         self.end
     }
+    /// The simulated time the run has reached (its metrics cover the run up to it).
+    pub fn reached(&self) -> SimTime {
+        self.reached
+    }
     /// Moves the end time (e.g. a shorter run than the file says).
     pub fn set_end(&mut self, end: SimTime) {
         self.end = end;

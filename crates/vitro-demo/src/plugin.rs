@@ -121,7 +121,7 @@ impl Run for DemoView {
     }
 
     fn now(&self) -> SimTime {
-        self.scenario().simulation().now()
+        self.scenario().reached()
     }
 
     fn advance(&mut self, until: SimTime) -> Result<bool, RunFailed> {

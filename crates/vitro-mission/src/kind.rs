@@ -62,19 +62,24 @@ fn place(text: &str, offset: usize) -> (usize, usize) {
 /// A [`KindError`] naming `file`, line and column.
 pub fn kind_of(file: &Path, text: &str, kinds: &[&str]) -> Result<String, KindError> {
     let all = || kinds.iter().map(|k| (*k).to_owned()).collect::<Vec<_>>();
-    let root = DeTable::parse(text).map_err(|e| {
-        let (line, column) = place(text, e.span().map_or(0, |s| s.start));
-        KindError::Syntax {
-            file: file.to_path_buf(),
-            line,
-            column,
-            message: e.message().trim().replace('\n', "; "),
-        }
-    })?;
+    // The recovering parser: a file with syntax errors but a readable kind goes on to its
+    // mission, which reports every problem in it.
+    let (root, errors) = DeTable::parse_recoverable(text);
     let Some(value) = root.get_ref().get("kind") else {
-        return Err(KindError::Missing {
-            file: file.to_path_buf(),
-            kinds: all(),
+        return Err(match errors.first() {
+            Some(e) => {
+                let (line, column) = place(text, e.span().map_or(0, |s| s.start));
+                KindError::Syntax {
+                    file: file.to_path_buf(),
+                    line,
+                    column,
+                    message: e.message().trim().replace('\n', "; "),
+                }
+            }
+            None => KindError::Missing {
+                file: file.to_path_buf(),
+                kinds: all(),
+            },
         });
     };
     let span = value.span();
@@ -119,9 +124,15 @@ mod tests {
     }
 
     #[test]
-    fn broken_toml_is_a_located_syntax_error() {
-        let e = kind_of(Path::new("s.toml"), "kind = \"demo\"\nseed = \n", &KINDS).unwrap_err();
+    fn broken_toml_without_a_kind_is_a_located_syntax_error() {
+        let e = kind_of(Path::new("s.toml"), "name = \"x\"\nseed = \n", &KINDS).unwrap_err();
         assert!(matches!(e, KindError::Syntax { line: 2, .. }), "{e}");
+    }
+
+    #[test]
+    fn broken_toml_with_a_kind_goes_to_its_mission() {
+        let kind = kind_of(Path::new("s.toml"), "kind = \"demo\"\nseed = \n", &KINDS);
+        assert_eq!(kind.unwrap(), "demo");
     }
 
     #[test]

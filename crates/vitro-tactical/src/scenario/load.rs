@@ -19,7 +19,8 @@ use toml::de::{DeTable, DeValue, ValueDeserializer};
 use vitro_site::site::Site;
 
 /// The keys of a scenario file's top level, in the order of [`ScenarioFile`]'s fields.
-pub const TOP_LEVEL_KEYS: [&str; 15] = [
+pub const TOP_LEVEL_KEYS: [&str; 16] = [
+    "kind",
     "name",
     "seed",
     "end",
@@ -164,7 +165,7 @@ pub(crate) fn parse(file: &Path, text: &str) -> Result<ScenarioFile, Vec<Diagnos
     for (key, value) in table.iter() {
         let v = value.clone();
         let result = match key.get_ref().as_ref() {
-            "name" => part::<String>(v),
+            "kind" | "name" => part::<String>(v),
             "seed" => part::<u64>(v),
             "end" => part::<EndSpec>(v),
             "site" => part::<SiteSpec>(v),

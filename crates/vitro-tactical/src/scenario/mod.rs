@@ -52,6 +52,9 @@ use std::path::PathBuf;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ScenarioFile {
+    /// The kind of scenario, `"evacuation"`: the tools pick the mission by it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
     /// A short name for reports.
     pub name: String,
     /// Master seed of every random stream of the run.

@@ -1,25 +1,23 @@
-//! The demo scenario (cars patrolling a generated town) as a live source for the viewer: its
-//! pictures are the demo crate's own ([`DemoView`]).
+//! Any mission's run as a live source for the viewer.
 
 use vitro::sim::Control;
 use vitro::time::SimTime;
-use vitro_demo::Scenario;
-use vitro_demo::view::DemoView;
+use vitro_mission::Run;
 use vitro_record::{Frame, Scene};
 use vitro_viz::{LiveSource, SourceError};
 
-/// A demo run the viewer can drive.
-pub(crate) struct DemoSource(DemoView);
+/// A run the viewer can drive.
+pub(crate) struct RunSource(Box<dyn Run>);
 
-impl DemoSource {
-    pub(crate) fn new(scenario: Scenario) -> Self {
-        DemoSource(DemoView::new(scenario))
+impl RunSource {
+    pub(crate) fn new(run: Box<dyn Run>) -> Self {
+        RunSource(run)
     }
 }
 
-impl LiveSource for DemoSource {
+impl LiveSource for RunSource {
     fn title(&self) -> String {
-        self.0.title()
+        format!("{} (seed {})", self.0.name(), self.0.seed())
     }
 
     fn scene(&self) -> Scene {
@@ -31,7 +29,11 @@ impl LiveSource for DemoSource {
     }
 
     fn end_ns(&self) -> Option<u64> {
-        Some(self.0.scenario().end().as_nanos())
+        Some(self.0.end().as_nanos())
+    }
+
+    fn sample_ns(&self) -> u64 {
+        self.0.sample().as_nanos()
     }
 
     fn advance(&mut self, until_ns: u64) -> Result<bool, SourceError> {
@@ -39,7 +41,9 @@ impl LiveSource for DemoSource {
     }
 
     fn frame(&mut self, t_ns: u64) -> Frame {
-        self.0.frame(t_ns)
+        let mut f = self.0.frame();
+        f.t_ns = f.t_ns.max(t_ns);
+        f
     }
 
     fn trace_hash(&self) -> u64 {
