@@ -97,6 +97,49 @@ impl vitro_mission::Mission for Evacuation {
             .map(|(k, _)| k)
             .collect()
     }
+
+    fn standalone(
+        &self,
+        scenario: &toml::Table,
+        seed: u64,
+        end_s: Option<f64>,
+        from: &Path,
+        to: &Path,
+    ) -> Result<String, String> {
+        let mut t = scenario.clone();
+        vitro_mission::set_seed(&mut t, seed)?;
+        if let Some(end) = end_s {
+            let table = t
+                .entry("end")
+                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+            if let toml::Value::Table(e) = table {
+                let old = e.get("time_s").and_then(toml::Value::as_float);
+                e.insert(
+                    "time_s".into(),
+                    toml::Value::Float(old.map_or(end, |o| o.min(end))),
+                );
+            }
+        }
+        // Files the scenario names resolve from its own directory: rewrite them for `to`.
+        for (table, key) in [
+            ("site", "map"),
+            ("site", "terrain"),
+            ("formation", "program"),
+        ] {
+            let Some(toml::Value::Table(sub)) = t.get_mut(table) else {
+                continue;
+            };
+            let Some(toml::Value::String(p)) = sub.get(key) else {
+                continue;
+            };
+            if Path::new(p).is_absolute() {
+                continue;
+            }
+            let moved = vitro_mission::relative_path(&from.join(p), to)?;
+            sub.insert(key.into(), toml::Value::String(moved));
+        }
+        toml::to_string(&t).map_err(|e| e.to_string())
+    }
 }
 
 /// The mission's metrics as named values, in summary-column order.

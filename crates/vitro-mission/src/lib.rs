@@ -105,6 +105,62 @@ pub trait Mission: Sync {
     ) -> Result<Box<dyn Run>, MissionError>;
     /// The names [`Run::metrics`] returns, in the same order (batch summary columns).
     fn metric_names(&self) -> Vec<&'static str>;
+    /// The text of a complete scenario file that, written into directory `to`, makes the same
+    /// run as `scenario` (a scenario table read from a file in directory `from`) with `seed`
+    /// and ending at `end_s` at the latest: the seed and end time set in it, relative paths
+    /// rewritten for `to` ([`relative_path`]). `vitro search` writes its minimal failing
+    /// scenarios with it.
+    ///
+    /// # Errors
+    /// Why the file cannot be written (e.g. a path that does not exist).
+    fn standalone(
+        &self,
+        scenario: &toml::Table,
+        seed: u64,
+        end_s: Option<f64>,
+        from: &Path,
+        to: &Path,
+    ) -> Result<String, String>;
+}
+
+/// `target` as a path relative to directory `dir` (both must exist), with `/` separators.
+///
+/// ```
+/// let here = std::env::current_dir().unwrap();
+/// let up = vitro_mission::relative_path(&here, &here.join("src")).unwrap();
+/// assert_eq!(up, "..");
+/// ```
+///
+/// # Errors
+/// If either path cannot be resolved.
+pub fn relative_path(target: &Path, dir: &Path) -> Result<String, String> {
+    let abs = |p: &Path| {
+        p.canonicalize()
+            .map_err(|e| format!("{}: {e}", p.display()))
+    };
+    let (target, dir) = (abs(target)?, abs(dir)?);
+    let t: Vec<_> = target.components().collect();
+    let d: Vec<_> = dir.components().collect();
+    let common = t.iter().zip(&d).take_while(|(a, b)| a == b).count();
+    let mut out = std::path::PathBuf::new();
+    for _ in common..d.len() {
+        out.push("..");
+    }
+    for c in &t[common..] {
+        out.push(c.as_os_str());
+    }
+    Ok(out.to_string_lossy().replace('\\', "/"))
+}
+
+/// Sets the top-level `seed` of a scenario table.
+///
+/// # Errors
+/// If `seed` does not fit a TOML integer.
+pub fn set_seed(scenario: &mut toml::Table, seed: u64) -> Result<(), String> {
+    let seed =
+        i64::try_from(seed).map_err(|_| format!("seed {seed} does not fit a TOML integer"))?;
+    scenario.insert("seed".into(), toml::Value::Integer(seed));
+    Ok(())
 }
 
 /// One run of a mission, driven by a tool.
