@@ -27,6 +27,8 @@ use crate::diag::{Located, key_offset};
 pub use crate::levels::{Levels, MAX_LEVELS, Number, RangeSpec};
 use crate::levels::{coerce, range_levels};
 use crate::runner::{Keep, Runner};
+use crate::search::spec::{self, Search, SearchFile};
+use crate::stop::{self, StopFile, StopRule};
 use crate::value::Value;
 use schemars::JsonSchema;
 use serde::Deserialize;
@@ -80,6 +82,11 @@ pub struct ExperimentFile {
     /// Which metrics and time series to keep.
     #[serde(default)]
     pub keep: KeepFile,
+    /// Conditioned replicates: stop adding replicates to a point once a metric's mean is
+    /// known well enough (`replicates` is then the most per point).
+    pub stop: Option<StopFile>,
+    /// What `vitro search` looks for and where.
+    pub search: Option<SearchFile>,
 }
 
 fn one() -> u32 {
@@ -156,6 +163,10 @@ pub struct Experiment {
     pub end_s: Option<f64>,
     /// What to keep.
     pub keep: Keep,
+    /// The stopping rule of a conditioned experiment.
+    pub stop: Option<StopRule>,
+    /// The search `vitro search` makes.
+    pub search: Option<Search>,
 }
 
 impl Experiment {
@@ -329,13 +340,50 @@ impl Experiment {
                 None => Ok(()),
             }
         };
-        let metrics = match &file.keep.metrics {
+        let mut metrics = match &file.keep.metrics {
             Some(m) => {
                 unknown(m, &["keep", "metrics"])?;
                 m.clone()
             }
             None => available.clone(),
         };
+        let stop = match &file.stop {
+            Some(f) => Some(
+                stop::check(f, file.replicates, &available)
+                    .map_err(|(key, m)| err(&["stop", key], m))?,
+            ),
+            None => None,
+        };
+        let search = match &file.search {
+            Some(f) => {
+                if file.latin_hypercube.is_some() || !file.parameters.is_empty() {
+                    return Err(err(
+                        &["search"],
+                        "a search sets its parameters under [search.parameters], not with \
+                         [parameters] or [latin_hypercube]"
+                            .into(),
+                    ));
+                }
+                let order = |p: &str| key_offset(&source, &["search", "parameters", p]);
+                let checked = spec::check(f, &scenario, &available, order).map_err(|(k, m)| {
+                    let keys: Vec<&str> = k.iter().map(String::as_str).collect();
+                    err(&keys, m)
+                })?;
+                Some(checked)
+            }
+            None => None,
+        };
+        // What the stopping rule, the objective and shrinking read is always kept.
+        let mut needed: Vec<String> = stop.iter().map(|s| s.metric.clone()).collect();
+        if let Some(s) = &search {
+            needed.extend(s.objective.metrics());
+            needed.extend(["trace_hash".to_owned(), "sim_time_s".to_owned()]);
+        }
+        for m in needed {
+            if available.contains(&m) && !metrics.contains(&m) {
+                metrics.push(m);
+            }
+        }
         unknown(&file.keep.series, &["keep", "series"])?;
         let every_s = match (file.keep.every_s, file.keep.series.is_empty()) {
             (Some(e), _) if !(e > 0.0 && e.is_finite()) => {
@@ -391,6 +439,8 @@ impl Experiment {
             design,
             end_s: file.end_s,
             keep,
+            stop,
+            search,
         })
     }
 
@@ -412,7 +462,7 @@ fn read(path: &Path) -> Result<String, ExperimentError> {
 }
 
 /// The scalar at dotted `path` of the scenario (its kind decides how levels are coerced).
-fn scenario_kind(scenario: &toml::Table, path: &str) -> Result<Value, String> {
+pub(crate) fn scenario_kind(scenario: &toml::Table, path: &str) -> Result<Value, String> {
     let mut table = scenario;
     let parts: Vec<&str> = path.split('.').collect();
     let Some((last, parents)) = parts.split_last() else {
@@ -477,7 +527,7 @@ fn unknown_key(path: &str, parent: &[&str], table: &toml::Table) -> String {
 }
 
 /// Sets the value at dotted `path`, which [`scenario_kind`] found.
-fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) {
+pub(crate) fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) {
     let mut parts = path.split('.').peekable();
     let mut table = table;
     while let Some(part) = parts.next() {

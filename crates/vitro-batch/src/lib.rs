@@ -43,6 +43,9 @@ mod parquet_out;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod runner;
+pub mod search;
+pub mod stats;
+pub mod stop;
 pub mod table;
 mod value;
 

@@ -46,14 +46,14 @@ pub struct Column {
 }
 
 impl Column {
-    fn uint(name: &str, cells: Vec<u64>) -> Self {
+    pub(crate) fn uint(name: &str, cells: Vec<u64>) -> Self {
         Column {
             name: name.to_owned(),
             cells: Cells::UInt(cells),
         }
     }
 
-    fn values(name: &str, cells: Vec<Option<Value>>) -> Self {
+    pub(crate) fn values(name: &str, cells: Vec<Option<Value>>) -> Self {
         let kind = infer(&cells);
         let cells = cells
             .into_iter()

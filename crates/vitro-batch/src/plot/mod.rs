@@ -13,7 +13,7 @@
 //! Failed runs are left out of the metric plots (the note under each title says how many).
 
 mod draw;
-pub mod stats;
+pub use crate::stats;
 
 use crate::design::Origin;
 use crate::journal::{self, JournalError, RunRecord, Status};
@@ -147,7 +147,7 @@ fn charts(
         for p in &m.parameters {
             let chart = if categorical(p) {
                 category_means(m, p, metric, &ok, &left_out)
-            } else if p.origin == Origin::LatinHypercube {
+            } else if matches!(p.origin, Origin::LatinHypercube | Origin::Search) {
                 Chart::Xy(hypercube_dots(m, p, metric, &ok, &left_out))
             } else {
                 Chart::Xy(level_lines(m, p, metric, &ok, &left_out))
@@ -243,7 +243,7 @@ fn level_lines(
 ) -> XyChart {
     let others: Vec<&ParamInfo> = m.parameters.iter().filter(|q| q.path != p.path).collect();
     let group = match others.as_slice() {
-        [g] if g.origin != Origin::LatinHypercube && g.levels.len() <= 8 => Some(*g),
+        [g] if matches!(g.origin, Origin::List | Origin::Range) && g.levels.len() <= 8 => Some(*g),
         _ => None,
     };
     let line = |label: Option<String>, filter: &dyn Fn(&RunRecord) -> bool| Line {
