@@ -228,7 +228,7 @@ fn bad_search_tables_exit_2_with_a_place() {
     let cases = [
         (
             "[search]\nbudgett = 3\n[search.objective]\nfailure = \"visits < 3\"\n",
-            "exp.toml:3:1",
+            "exp.toml:4:1",
             "unknown field `budgett`",
         ),
         (
@@ -243,7 +243,7 @@ fn bad_search_tables_exit_2_with_a_place() {
         ),
         (
             "[search.objective]\nmaximise = \"visits\"\n[search.parameters]\n\"channel.los\" = [0.0, 0.5]\n",
-            "exp.toml:6:18",
+            "exp.toml:6:17",
             "unknown scenario key `channel.los`",
         ),
     ];

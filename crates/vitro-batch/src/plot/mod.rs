@@ -13,7 +13,9 @@
 //! Failed runs are left out of the metric plots (the note under each title says how many).
 
 mod draw;
+mod search;
 pub use crate::stats;
+pub use search::{SearchCurves, plot_search_curves};
 
 use crate::design::Origin;
 use crate::journal::{self, JournalError, RunRecord, Status};
