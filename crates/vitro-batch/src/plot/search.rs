@@ -20,7 +20,7 @@ pub struct SearchCurves {
 }
 
 /// Draws `curves` to `STEM.png` and `STEM.svg`: per group, the mean over its searches after
-/// each evaluation, with the 95% Student-t band.
+/// the first evaluation and every tenth (and the last), with the 95% Student-t band.
 pub fn plot_search_curves(curves: &SearchCurves, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
     let lines = curves
         .groups
@@ -28,6 +28,7 @@ pub fn plot_search_curves(curves: &SearchCurves, stem: &Path) -> Result<Vec<Path
         .map(|(label, runs)| {
             let len = runs.iter().map(Vec::len).min().unwrap_or(0);
             let points = (0..len)
+                .filter(|i| *i == 0 || (i + 1) % 10 == 0 || i + 1 == len)
                 .filter_map(|i| {
                     let at: Vec<f64> = runs.iter().map(|c| c[i]).collect();
                     mean_ci(&at).map(|m| ((i + 1) as f64, m))

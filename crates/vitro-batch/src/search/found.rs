@@ -98,9 +98,9 @@ pub(crate) fn distinct<'a>(
     chosen
 }
 
-/// Writes the shrunk failure `done` of run `rec` as `minimal/run-K.toml` (unless a scenario
-/// with the same text, one of `earlier`, is written already); returns its entry, path and
-/// text.
+/// Writes the shrunk failure `done` of run `rec` as `minimal/run-K.toml`, unless an earlier
+/// one shrank to the same run (its trace hash is one of `earlier`); returns its entry, path
+/// and trace hash.
 pub(crate) fn write_minimal(
     dir: &Path,
     runner: &dyn Runner,
@@ -154,9 +154,9 @@ pub(crate) fn write_minimal(
     let info = MinimalInfo {
         run: rec.run,
         file: format!("{MINIMAL_DIR}/{name}"),
-        trace_hash: hash,
+        trace_hash: hash.clone(),
         runs: done.runs,
         changes: done.changes.clone(),
     };
-    Ok(Some((info, path, body)))
+    Ok(Some((info, path, hash)))
 }

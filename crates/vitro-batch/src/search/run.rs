@@ -265,7 +265,7 @@ pub fn run_search(
     // Shrink the most different failures.
     let chosen = found::distinct(&failing, &points, opts.shrink.unwrap_or(search.shrink));
     let mut minimal: Vec<MinimalInfo> = Vec::new();
-    let mut texts: Vec<String> = Vec::new();
+    let mut hashes: Vec<String> = Vec::new();
     for (index, rec) in chosen.iter().enumerate() {
         progress(SearchEvent::Shrink {
             run: rec.run,
@@ -294,9 +294,9 @@ pub fn run_search(
             search.shrink_budget,
             &|| progress(SearchEvent::ShrinkRun),
         );
-        let written = found::write_minimal(dir, runner, search, rec, &start, &done, &texts)?;
-        if let Some((info, path, text)) = written {
-            texts.push(text);
+        let written = found::write_minimal(dir, runner, search, rec, &start, &done, &hashes)?;
+        if let Some((info, path, hash)) = written {
+            hashes.push(hash);
             files.push(path);
             minimal.push(info);
         }

@@ -9,8 +9,8 @@
 //!    stops when it is decided);
 //! 2. remove one element of an array of tables (the last first): fewer entity groups;
 //! 3. lower an element's integer `count` to 1, to half, or by one: fewer entities;
-//! 4. move a searched parameter to the scenario's own value, or half-way there; the seed to
-//!    the scenario's.
+//! 4. move a searched parameter to the scenario's own value, or half-way there (a `count`
+//!    only downward); the seed to the scenario's.
 //!
 //! The candidates are run in chunks of [`CHUNK`] in parallel; the first (in this order) that
 //! still fails becomes the current run, and the steps start over. Shrinking ends when no step
@@ -223,7 +223,9 @@ fn steps(
         let Ok(d) = scenario_kind(&case.base, path) else {
             continue;
         };
-        if *v == d {
+        // An entity count never goes back up: fewer entities is the point.
+        let count = path.ends_with(".count");
+        if *v == d || (count && d.as_f64() > v.as_f64()) {
             continue;
         }
         let mut to_default = case.clone();
@@ -339,6 +341,15 @@ mod tests {
         assert!(names.contains(&"entity.0.count 6 -> 3"), "{names:?}");
         assert!(names.contains(&"entity.2.count 2 -> 1"));
         assert!(names.contains(&"entity.0.count 6 -> 4 (the scenario's)"));
+        let up = Case {
+            params: vec![("entity.0.count".into(), Value::Int(2))],
+            ..case()
+        };
+        let s = steps(&up, &m, &[], None);
+        assert!(
+            !s.iter().any(|(n, _)| n.starts_with("entity.0.count 2 -> 4")),
+            "a count never goes back up"
+        );
         assert!(names.contains(&"entity.2.speed 3.0 -> 1.0 (the scenario's)"));
         assert_eq!(*names.last().unwrap(), "seed 9 -> 1 (the scenario's)");
         // Every step makes the run smaller or moves it toward the scenario.
