@@ -13,7 +13,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 target="${CARGO_TARGET_DIR:-target}"
 vitro="${VITRO:-$target/release/vitro}"
 out="${1:-results/search_compare}"
-seeds="${SEEDS:-1 2 3 4 5 6 7 8}"
+seeds="${SEEDS:-1 2 3 4 5 6 7 8 9 10 11 12}"
 budget="${BUDGET:-120}"
 jobs="${JOBS:-2}"
 [ -x "$vitro" ] || cargo build --release -p vitro-cli

@@ -339,6 +339,9 @@ pub struct MinimalInfo {
     pub runs: u32,
     /// What changed from the failing run, in order.
     pub changes: Vec<String>,
+    /// Other failing runs that shrank to this same run (same trace hash).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub also: Vec<u64>,
 }
 
 /// A new session starting now.

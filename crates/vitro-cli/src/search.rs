@@ -148,6 +148,10 @@ pub(crate) fn search(args: &SearchArgs) -> Result<(), Failure> {
         for c in &m.changes {
             eprintln!("    {c}");
         }
+        if !m.also.is_empty() {
+            let runs: Vec<String> = m.also.iter().map(u64::to_string).collect();
+            eprintln!("  runs {} shrank to the same failure", runs.join(", "));
+        }
     }
     for f in &report.files {
         eprintln!("wrote {}", f.display());

@@ -9,7 +9,6 @@ use crate::journal::RunRecord;
 use crate::manifest::{Manifest, MinimalInfo, write_atomic};
 use crate::runner::Runner;
 use crate::table::{Column, Table};
-use crate::value::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -98,9 +97,8 @@ pub(crate) fn distinct<'a>(
     chosen
 }
 
-/// Writes the shrunk failure `done` of run `rec` as `minimal/run-K.toml`, unless an earlier
-/// one shrank to the same run (its trace hash is one of `earlier`); returns its entry, path
-/// and trace hash.
+/// Writes the shrunk failure `done` of run `rec` as `minimal/run-K.toml`; returns its entry
+/// and path.
 pub(crate) fn write_minimal(
     dir: &Path,
     runner: &dyn Runner,
@@ -108,8 +106,8 @@ pub(crate) fn write_minimal(
     rec: &RunRecord,
     start: &Case,
     done: &Shrunk,
-    earlier: &[String],
-) -> Result<Option<(MinimalInfo, PathBuf, String)>, SearchError> {
+    hash: &str,
+) -> Result<(MinimalInfo, PathBuf), SearchError> {
     let folder = dir.join(MINIMAL_DIR);
     let name = format!("run-{}.toml", rec.run);
     let path = folder.join(&name);
@@ -126,13 +124,6 @@ pub(crate) fn write_minimal(
             &folder,
         )
         .map_err(fail)?;
-    if earlier.contains(&body) {
-        return Ok(None);
-    }
-    let hash = match done.metrics.get("trace_hash") {
-        Some(Value::Text(h)) => h.clone(),
-        _ => String::new(),
-    };
     let (g0, e0) = start.size();
     let (g1, e1) = done.case.size();
     let mut header = format!(
@@ -154,9 +145,10 @@ pub(crate) fn write_minimal(
     let info = MinimalInfo {
         run: rec.run,
         file: format!("{MINIMAL_DIR}/{name}"),
-        trace_hash: hash.clone(),
+        trace_hash: hash.to_owned(),
         runs: done.runs,
         changes: done.changes.clone(),
+        also: Vec::new(),
     };
-    Ok(Some((info, path, hash)))
+    Ok((info, path))
 }

@@ -265,7 +265,6 @@ pub fn run_search(
     // Shrink the most different failures.
     let chosen = found::distinct(&failing, &points, opts.shrink.unwrap_or(search.shrink));
     let mut minimal: Vec<MinimalInfo> = Vec::new();
-    let mut hashes: Vec<String> = Vec::new();
     for (index, rec) in chosen.iter().enumerate() {
         progress(SearchEvent::Shrink {
             run: rec.run,
@@ -294,12 +293,21 @@ pub fn run_search(
             search.shrink_budget,
             &|| progress(SearchEvent::ShrinkRun),
         );
-        let written = found::write_minimal(dir, runner, search, rec, &start, &done, &hashes)?;
-        if let Some((info, path, hash)) = written {
-            hashes.push(hash);
-            files.push(path);
-            minimal.push(info);
+        // Failures that shrink to the same run (same trace hash) are one failure.
+        let hash = match done.metrics.get("trace_hash") {
+            Some(Value::Text(h)) => h.clone(),
+            _ => String::new(),
+        };
+        if let Some(m) = minimal
+            .iter_mut()
+            .find(|m| !hash.is_empty() && m.trace_hash == hash)
+        {
+            m.also.push(rec.run);
+            continue;
         }
+        let (info, path) = found::write_minimal(dir, runner, search, rec, &start, &done, &hash)?;
+        files.push(path);
+        minimal.push(info);
     }
     if let Some(s) = manifest.search.as_mut() {
         s.failures = failing.len() as u64;

@@ -13,8 +13,9 @@
 //!    only downward); the seed to the scenario's.
 //!
 //! The candidates are run in chunks of [`CHUNK`] in parallel; the first (in this order) that
-//! still fails becomes the current run, and the steps start over. Shrinking ends when no step
-//! fails or the budget is spent. The chunk size is fixed, so the result does not depend on
+//! still fails becomes the current run, and the steps start over, skipping those that did not
+//! fail before (they seldom do later); once none is left, one full pass tries every step
+//! again. Shrinking ends when a full pass finds no step that fails, or the budget is spent. The chunk size is fixed, so the result does not depend on
 //! the job count. A step the scenario rejects (a run error, e.g. the mission without its
 //! truck) just does not fail.
 
@@ -24,7 +25,7 @@ use crate::experiment::{scenario_kind, set_path};
 use crate::runner::{Keep, RunSettings, Runner};
 use crate::value::Value;
 use rayon::prelude::*;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// Candidates run at once.
 pub const CHUNK: usize = 4;
@@ -112,8 +113,15 @@ pub fn shrink(
         runs: 0,
         changes: Vec::new(),
     };
+    // Steps that did not fail are skipped until a full pass over every step (of the run as
+    // it is then) finds none that fails: the end.
+    let mut rejected: BTreeSet<String> = BTreeSet::new();
+    let mut full = false;
     'steps: loop {
-        let candidates = steps(&best.case, &best.metrics, dims, default_seed);
+        let candidates: Vec<(String, Case)> = steps(&best.case, &best.metrics, dims, default_seed)
+            .into_iter()
+            .filter(|(what, _)| full || !rejected.contains(what))
+            .collect();
         for chunk in candidates.chunks(CHUNK) {
             let left = budget.saturating_sub(best.runs) as usize;
             if left == 0 {
@@ -136,18 +144,24 @@ pub fn shrink(
                     .collect()
             });
             best.runs += chunk.len() as u32;
-            if let Some((i, m)) = results
+            let first = results
                 .into_iter()
                 .enumerate()
-                .find_map(|(i, r)| r.map(|m| (i, m)))
-            {
+                .find_map(|(i, r)| r.map(|m| (i, m)));
+            let tried = first.as_ref().map_or(chunk.len(), |(i, _)| *i);
+            rejected.extend(chunk[..tried].iter().map(|(what, _)| what.clone()));
+            if let Some((i, m)) = first {
                 best.case = chunk[i].1.clone();
                 best.metrics = m;
                 best.changes.push(chunk[i].0.clone());
+                full = false;
                 continue 'steps;
             }
         }
-        break;
+        if full {
+            break;
+        }
+        full = true;
     }
     best
 }
@@ -347,7 +361,8 @@ mod tests {
         };
         let s = steps(&up, &m, &[], None);
         assert!(
-            !s.iter().any(|(n, _)| n.starts_with("entity.0.count 2 -> 4")),
+            !s.iter()
+                .any(|(n, _)| n.starts_with("entity.0.count 2 -> 4")),
             "a count never goes back up"
         );
         assert!(names.contains(&"entity.2.speed 3.0 -> 1.0 (the scenario's)"));
