@@ -4,16 +4,15 @@
 use crate::design::{RunSpec, Shard};
 use crate::experiment::Experiment;
 use crate::journal::{self, Journal, JournalError, RunRecord, Status};
+use crate::make::{self, execute_all};
 use crate::manifest::{self, MANIFEST_FILE, Manifest, ManifestError};
-use crate::runner::{RunOutput, RunSettings, Runner, SeriesRow};
+use crate::runner::Runner;
 use crate::stop;
 use crate::table::{self, TableError};
-use rayon::prelude::*;
 use std::collections::BTreeSet;
-use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 
 /// How to run a batch.
@@ -194,7 +193,7 @@ pub fn run_batch(
             records.extend(made);
         }
         Some(rule) => {
-            let stop = stop::run_rounds(&pool, exp, runner, rule, &journal, &mut records, &report)?;
+            let stop = make::run_rounds(&pool, exp, runner, rule, &journal, &mut records, &report)?;
             manifest.stop = Some(stop);
         }
     }
@@ -261,38 +260,6 @@ pub(crate) fn pool(jobs: usize) -> Result<rayon::ThreadPool, BatchError> {
         })
 }
 
-/// Makes the runs `specs` on `pool`, appending each record to `journal` as it ends and then
-/// calling `done` with it; returns the records in the order they ended.
-pub(crate) fn execute_all(
-    pool: &rayon::ThreadPool,
-    exp: &Experiment,
-    runner: &dyn Runner,
-    specs: &[RunSpec],
-    journal: &Mutex<Journal>,
-    done: &(dyn Fn(&RunRecord) + Sync),
-) -> Result<Vec<RunRecord>, JournalError> {
-    let records = Mutex::new(Vec::with_capacity(specs.len()));
-    pool.install(|| {
-        specs
-            .par_iter()
-            .with_max_len(1)
-            .try_for_each(|spec| -> Result<(), JournalError> {
-                let rec = execute(exp, runner, spec);
-                journal
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .append(&rec)?;
-                done(&rec);
-                records
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .push(rec);
-                Ok(())
-            })
-    })?;
-    Ok(records.into_inner().unwrap_or_else(PoisonError::into_inner))
-}
-
 /// Whether a directory's old manifest is of the same experiment and share.
 pub(crate) fn check_resumable(
     dir: &Path,
@@ -343,77 +310,4 @@ pub fn failures(records: &[RunRecord]) -> Vec<(u64, String)> {
         .filter(|r| r.status == Status::Failed)
         .map(|r| (r.run, r.error.clone().unwrap_or_default()))
         .collect()
-}
-
-/// Makes one run; an error or a panic is a failed record.
-pub(crate) fn execute(exp: &Experiment, runner: &dyn Runner, spec: &RunSpec) -> RunRecord {
-    let scenario = exp.scenario_for(&spec.params);
-    let settings = RunSettings {
-        end_s: exp.end_s,
-        keep: &exp.keep,
-    };
-    let t0 = Instant::now();
-    let outcome = run_guarded(runner, &scenario, spec.seed, &settings);
-    let wall_s = t0.elapsed().as_secs_f64();
-    let mut rec = RunRecord {
-        run: spec.run,
-        point: spec.point,
-        replicate: spec.replicate,
-        seed: spec.seed,
-        params: spec.params.iter().cloned().collect(),
-        status: Status::Ok,
-        error: None,
-        wall_s,
-        metrics: Default::default(),
-        series: Vec::new(),
-    };
-    match outcome {
-        Ok(out) => {
-            let keep = &exp.keep;
-            rec.metrics = out
-                .metrics
-                .into_iter()
-                .filter(|(k, _)| keep.metrics.contains(k))
-                .collect();
-            if !keep.series.is_empty() {
-                rec.series = out
-                    .series
-                    .into_iter()
-                    .map(|s| SeriesRow {
-                        t_s: s.t_s,
-                        values: s
-                            .values
-                            .into_iter()
-                            .filter(|(k, _)| keep.series.contains(k))
-                            .collect(),
-                    })
-                    .collect();
-            }
-        }
-        Err(message) => {
-            rec.status = Status::Failed;
-            rec.error = Some(message);
-        }
-    }
-    rec
-}
-
-/// Runs `scenario` with `seed`; a panic becomes an error (`panicked: ...`).
-pub(crate) fn run_guarded(
-    runner: &dyn Runner,
-    scenario: &toml::Table,
-    seed: u64,
-    settings: &RunSettings<'_>,
-) -> Result<RunOutput, String> {
-    match catch_unwind(AssertUnwindSafe(|| runner.run(scenario, seed, settings))) {
-        Ok(result) => result,
-        Err(payload) => {
-            let what = payload
-                .downcast_ref::<&str>()
-                .map(|s| (*s).to_owned())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "a non-text payload".to_owned());
-            Err(format!("panicked: {what}"))
-        }
-    }
 }

@@ -35,7 +35,9 @@ pub mod diag;
 pub mod exec;
 pub mod experiment;
 pub mod journal;
+mod keys;
 mod levels;
+mod make;
 pub mod manifest;
 pub mod merge;
 #[cfg(feature = "parquet")]

@@ -19,17 +19,11 @@
 //! The interval of a numeric metric is Student's (`t · s / √n`); of a boolean one (a rate),
 //! Wilson's score interval. Runs that failed or lack the metric (NaN) do not count.
 
-use crate::design::RunSpec;
-use crate::exec::execute_all;
-use crate::experiment::Experiment;
-use crate::journal::{Journal, JournalError, RunRecord, Status};
-use crate::runner::Runner;
+use crate::journal::{RunRecord, Status};
 use crate::stats::{t975, wilson};
 use crate::value::Value;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
-use std::sync::Mutex;
 
 /// The `[stop]` table as written.
 #[derive(Clone, Debug, Deserialize, JsonSchema)]
@@ -151,70 +145,10 @@ impl StopRule {
     }
 }
 
-/// Makes the runs of a conditioned experiment missing from `records` (which holds those
-/// of earlier sessions and gets the new ones), round by round; returns each point's outcome.
-pub(crate) fn run_rounds(
-    pool: &rayon::ThreadPool,
-    exp: &Experiment,
-    runner: &dyn Runner,
-    rule: &StopRule,
-    journal: &Mutex<Journal>,
-    records: &mut Vec<RunRecord>,
-    done: &(dyn Fn(&RunRecord) + Sync),
-) -> Result<StopReport, JournalError> {
-    let design = &exp.design;
-    let points = design.points().unwrap_or(0);
-    let most = design.replicates;
-    let run_of = |p: u64, r: u32| p * u64::from(most) + u64::from(r);
-    let mut have: BTreeMap<u64, RunRecord> = records.drain(..).map(|r| (r.run, r)).collect();
-    // Replicates each open point needs now; closed points move to `outcome`.
-    let mut open: BTreeMap<u64, u32> = (0..points).map(|p| (p, rule.min_replicates)).collect();
-    let mut outcome: BTreeMap<u64, PointStop> = BTreeMap::new();
-    while !open.is_empty() {
-        let specs: Vec<RunSpec> = open
-            .iter()
-            .flat_map(|(&p, &n)| (0..n).map(move |r| run_of(p, r)))
-            .filter(|k| !have.contains_key(k))
-            .filter_map(|k| design.run(k))
-            .collect();
-        for rec in execute_all(pool, exp, runner, &specs, journal, done)? {
-            have.insert(rec.run, rec);
-        }
-        let mut next = BTreeMap::new();
-        for (p, n) in open {
-            let mine: Vec<&RunRecord> = (0..n).filter_map(|r| have.get(&run_of(p, r))).collect();
-            let (mean, half_width) = rule.estimate(&mine);
-            let met = half_width <= rule.half_width;
-            if met || n >= most {
-                outcome.insert(
-                    p,
-                    PointStop {
-                        point: p,
-                        replicates: n,
-                        mean,
-                        half_width,
-                        met,
-                    },
-                );
-            } else {
-                next.insert(p, n + 1);
-            }
-        }
-        open = next;
-    }
-    // Records of earlier sessions past a point's stop (a resume after the rule changed
-    // cannot happen: the experiment's bytes are checked) stay in the journal and tables.
-    records.extend(have.into_values());
-    Ok(StopReport {
-        rule: rule.clone(),
-        points: outcome.into_values().collect(),
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::journal::Status;
+    use std::collections::BTreeMap;
 
     fn rec(run: u64, x: Value) -> RunRecord {
         RunRecord {

@@ -2,7 +2,7 @@
 //! choice of the failures to shrink, and the minimal scenarios `minimal/run-K.toml`.
 
 use super::cem::Coord;
-use super::run::SearchError;
+use super::error::SearchError;
 use super::shrink::{Case, Shrunk};
 use super::spec::Search;
 use crate::journal::RunRecord;

@@ -27,10 +27,12 @@
 //! generations are replayed from their records, the missing runs made.
 
 pub mod cem;
+mod error;
 mod found;
 mod run;
 pub mod shrink;
 pub mod spec;
 
 pub use cem::Strategy;
-pub use run::{SearchError, SearchEvent, SearchOptions, SearchReport, run_search};
+pub use error::SearchError;
+pub use run::{SearchEvent, SearchOptions, SearchReport, run_search};

@@ -2,13 +2,15 @@
 //! tables, `found.csv` and the shrunk failures.
 
 use super::cem::{Coord, Rank, Sampler, Strategy};
+use super::error::SearchError;
 use super::found;
 use super::shrink::{self, Case};
 use super::spec::{Range, Search};
 use crate::design::{Origin, RunSpec, seed_of};
-use crate::exec::{BatchError, Progress, execute_all, failures, open_dir, pool};
+use crate::exec::{BatchError, Progress, failures, open_dir, pool};
 use crate::experiment::Experiment;
 use crate::journal::{RunRecord, Status};
+use crate::make::execute_all;
 use crate::manifest::{self, Manifest, MinimalInfo, ParamInfo, RunEntry, SearchInfo};
 use crate::runner::Runner;
 use crate::table;
@@ -79,54 +81,6 @@ pub struct SearchReport {
     pub wall_s: f64,
     /// Files written (tables, found.csv, minimal scenarios).
     pub files: Vec<PathBuf>,
-}
-
-/// Why a search could not run.
-#[derive(Debug, thiserror::Error)]
-pub enum SearchError {
-    /// The experiment has no `[search]` table.
-    #[error("{0} has no [search] table: nothing to search")]
-    NoSearch(PathBuf),
-    /// The directory, journal, manifest or tables failed.
-    #[error(transparent)]
-    Batch(#[from] BatchError),
-    /// A file could not be written.
-    #[error("cannot write {path}: {message}")]
-    Write {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        message: String,
-    },
-}
-
-impl From<crate::manifest::ManifestError> for SearchError {
-    fn from(e: crate::manifest::ManifestError) -> Self {
-        SearchError::Batch(e.into())
-    }
-}
-
-impl From<crate::journal::JournalError> for SearchError {
-    fn from(e: crate::journal::JournalError) -> Self {
-        SearchError::Batch(e.into())
-    }
-}
-
-impl From<crate::table::TableError> for SearchError {
-    fn from(e: crate::table::TableError) -> Self {
-        SearchError::Batch(e.into())
-    }
-}
-
-impl SearchError {
-    /// Whether the user's input is at fault.
-    pub fn is_input(&self) -> bool {
-        match self {
-            SearchError::NoSearch(_) => true,
-            SearchError::Batch(e) => e.is_input(),
-            SearchError::Write { .. } => false,
-        }
-    }
 }
 
 /// Runs the search of `exp` (its `[search]` table) with `opts`, calling `progress` as it

@@ -20,8 +20,8 @@
 //! truck) just does not fail.
 
 use super::spec::{Dim, Objective, Range};
-use crate::exec::run_guarded;
-use crate::experiment::{scenario_kind, set_path};
+use crate::keys::{scenario_kind, set_path};
+use crate::make::run_guarded;
 use crate::runner::{Keep, RunSettings, Runner};
 use crate::value::Value;
 use rayon::prelude::*;

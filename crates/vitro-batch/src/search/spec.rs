@@ -21,7 +21,7 @@
 //! seed = [1, 100000]              # the run's seed: a choice among these integers
 //! ```
 
-use crate::experiment::scenario_kind;
+use crate::keys::scenario_kind;
 use crate::value::Value;
 use schemars::JsonSchema;
 use serde::Deserialize;
