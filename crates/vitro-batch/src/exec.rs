@@ -8,7 +8,7 @@ use crate::make::{self, execute_all};
 use crate::manifest::{self, MANIFEST_FILE, Manifest, ManifestError};
 use crate::runner::Runner;
 use crate::stop;
-use crate::table::{self, TableError};
+use crate::table_out::{self, TableError};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -207,7 +207,7 @@ pub fn run_batch(
         s.runs_done = ran;
     }
     manifest.save(dir)?;
-    let tables = table::write_tables(dir, &manifest, &records)?;
+    let tables = table_out::write_tables(dir, &manifest, &records)?;
     Ok(BatchReport {
         planned,
         skipped,

@@ -49,7 +49,9 @@ pub mod search;
 pub mod stats;
 pub mod stop;
 pub mod table;
+pub mod table_out;
 mod value;
+mod write_file;
 
 pub use exec::{BatchError, BatchOptions, BatchReport, Progress, run_batch};
 pub use experiment::{Experiment, ExperimentError, experiment_schema};

@@ -1,9 +1,9 @@
 //! The progress of searches: what they found against the evaluations spent, one line per
 //! strategy (the mean over its searches, with the 95% confidence band).
 
-use super::draw::{self, Line, XyChart};
-use super::stats::mean_ci;
-use super::{Chart, PlotError};
+use super::draw::{self, Chart, Line, XyChart};
+use super::error::PlotError;
+use crate::stats::mean_ci;
 use std::path::{Path, PathBuf};
 
 /// Curves of several searches, grouped (e.g. by strategy).

@@ -34,8 +34,8 @@ impl From<crate::journal::JournalError> for SearchError {
     }
 }
 
-impl From<crate::table::TableError> for SearchError {
-    fn from(e: crate::table::TableError) -> Self {
+impl From<crate::table_out::TableError> for SearchError {
+    fn from(e: crate::table_out::TableError) -> Self {
         SearchError::Batch(e.into())
     }
 }

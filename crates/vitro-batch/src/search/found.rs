@@ -6,9 +6,10 @@ use super::error::SearchError;
 use super::shrink::{Case, Shrunk};
 use super::spec::Search;
 use crate::journal::RunRecord;
-use crate::manifest::{Manifest, MinimalInfo, write_atomic};
+use crate::manifest::{Manifest, MinimalInfo};
 use crate::runner::Runner;
 use crate::table::{Column, Table};
+use crate::write_file::write_atomic;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 

@@ -13,7 +13,7 @@ use crate::journal::{RunRecord, Status};
 use crate::make::execute_all;
 use crate::manifest::{self, Manifest, MinimalInfo, ParamInfo, RunEntry, SearchInfo};
 use crate::runner::Runner;
-use crate::table;
+use crate::table_out;
 use crate::value::Value;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -213,7 +213,7 @@ pub fn run_search(
         .filter(|r| r.status == Status::Ok && search.objective.fails(&r.metrics))
         .collect();
     manifest.set_statuses(&records);
-    let mut files = table::write_tables(dir, &manifest, &records)?;
+    let mut files = table_out::write_tables(dir, &manifest, &records)?;
     files.push(found::write(dir, &manifest, search, &failing)?);
 
     // Shrink the most different failures.
