@@ -35,6 +35,8 @@ pub enum Origin {
     Range,
     /// A Latin-hypercube sample.
     LatinHypercube,
+    /// Searched (`vitro search`): the levels are the range's ends, or its choices.
+    Search,
 }
 
 /// One varied parameter and its levels.
@@ -239,20 +241,20 @@ pub fn seed_of(base: u64, k: u64) -> u64 {
     mix(base.wrapping_add(GOLDEN.wrapping_mul(k.wrapping_add(1))))
 }
 
-/// A SplitMix64 generator (for the hypercube).
-struct SplitMix(u64);
+/// A SplitMix64 generator (for the hypercube and the search).
+pub(crate) struct SplitMix(pub(crate) u64);
 
 impl SplitMix {
-    fn next(&mut self) -> u64 {
+    pub(crate) fn next(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(GOLDEN);
         mix(self.0)
     }
     /// Uniform in `[0, 1)` with 53 random bits.
-    fn unit(&mut self) -> f64 {
+    pub(crate) fn unit(&mut self) -> f64 {
         (self.next() >> 11) as f64 / (1u64 << 53) as f64
     }
     /// Uniform in `0..n` (n > 0), without modulo bias.
-    fn below(&mut self, n: u64) -> u64 {
+    pub(crate) fn below(&mut self, n: u64) -> u64 {
         let zone = u64::MAX - u64::MAX % n;
         loop {
             let x = self.next();

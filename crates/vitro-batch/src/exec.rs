@@ -4,15 +4,15 @@
 use crate::design::{RunSpec, Shard};
 use crate::experiment::Experiment;
 use crate::journal::{self, Journal, JournalError, RunRecord, Status};
+use crate::make::{self, execute_all};
 use crate::manifest::{self, MANIFEST_FILE, Manifest, ManifestError};
-use crate::runner::{RunSettings, Runner, SeriesRow};
-use crate::table::{self, TableError};
-use rayon::prelude::*;
+use crate::runner::Runner;
+use crate::stop;
+use crate::table_out::{self, TableError};
 use std::collections::BTreeSet;
-use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 
 /// How to run a batch.
@@ -58,6 +58,8 @@ pub struct BatchReport {
     pub wall_s: f64,
     /// Tables written.
     pub tables: Vec<PathBuf>,
+    /// Where each point of a conditioned experiment stopped.
+    pub stop: Option<stop::StopReport>,
 }
 
 /// Why a batch could not run (failed runs are not errors: see [`BatchReport::failed`]).
@@ -93,6 +95,12 @@ pub enum BatchError {
         /// What differs.
         why: String,
     },
+    /// A conditioned experiment (`[stop]`) was asked for in shards.
+    #[error(
+        "a conditioned experiment ([stop]) cannot be sharded: whether a point needs another \
+         replicate depends on its earlier ones"
+    )]
+    Conditioned,
     /// The worker pool could not start.
     #[error("cannot start {jobs} worker threads: {message}")]
     Pool {
@@ -111,6 +119,7 @@ impl BatchError {
             self,
             BatchError::Exists(_)
                 | BatchError::Mismatch { .. }
+                | BatchError::Conditioned
                 | BatchError::Journal(JournalError::Busy { .. })
         )
     }
@@ -126,27 +135,11 @@ pub fn run_batch(
 ) -> Result<BatchReport, BatchError> {
     let started = Instant::now();
     let dir = opts.out.as_path();
-    std::fs::create_dir_all(dir).map_err(|source| BatchError::CreateDir {
-        path: dir.to_owned(),
-        source,
-    })?;
-    let mut manifest = Manifest::new(exp, opts.shard.filter(|s| s.count > 1));
-    match Manifest::load(dir)? {
-        Some(_) if !opts.resume => return Err(BatchError::Exists(dir.to_owned())),
-        Some(old) => {
-            check_resumable(dir, &old, &manifest)?;
-            manifest.sessions = old.sessions;
-        }
-        None if journal::read(dir)?.records.is_empty() => {}
-        None => {
-            return Err(BatchError::Mismatch {
-                dir: dir.to_owned(),
-                why: format!("it holds run records but no {MANIFEST_FILE}"),
-            });
-        }
+    if exp.stop.is_some() && opts.shard.is_some_and(|s| s.count > 1) {
+        return Err(BatchError::Conditioned);
     }
-
-    let (journal, reading) = Journal::open(dir)?;
+    let mut manifest = Manifest::new(exp, opts.shard.filter(|s| s.count > 1));
+    let (journal, reading) = open_dir(dir, &mut manifest, opts.resume)?;
     let mut done = BTreeSet::new();
     for rec in &reading.records {
         let planned = manifest.runs.binary_search_by_key(&rec.run, |e| e.run);
@@ -179,68 +172,100 @@ pub fn run_batch(
     manifest.set_statuses(&reading.records);
     manifest.save(dir)?;
 
-    let pool = rayon::ThreadPoolBuilder::new()
+    let pool = pool(jobs)?;
+    let journal = Mutex::new(journal);
+    let mut records = reading.records;
+    let counter = AtomicU64::new(skipped);
+    let report = |rec: &RunRecord| {
+        let done = counter.fetch_add(1, Ordering::Relaxed) + 1;
+        progress(Progress {
+            done,
+            total: planned,
+            before: skipped,
+            record: rec,
+        });
+    };
+    let before = records.len();
+    match &exp.stop {
+        None => {
+            let specs: Vec<RunSpec> = pending.iter().filter_map(|&k| exp.design.run(k)).collect();
+            let made = execute_all(&pool, exp, runner, &specs, &journal, &report)?;
+            records.extend(made);
+        }
+        Some(rule) => {
+            let stop = make::run_rounds(&pool, exp, runner, rule, &journal, &mut records, &report)?;
+            manifest.stop = Some(stop);
+        }
+    }
+    let ran = (records.len() - before) as u64;
+    drop(journal);
+
+    records.sort_by_key(|r| r.run);
+    manifest.set_statuses(&records);
+    if let Some(s) = manifest.sessions.last_mut() {
+        s.finished = Some(manifest::now());
+        s.runs_done = ran;
+    }
+    manifest.save(dir)?;
+    let tables = table_out::write_tables(dir, &manifest, &records)?;
+    Ok(BatchReport {
+        planned,
+        skipped,
+        ran,
+        torn_dropped: reading.torn,
+        failed: failures(&records),
+        wall_s: started.elapsed().as_secs_f64(),
+        tables,
+        stop: manifest.stop.clone(),
+    })
+}
+
+/// Opens result directory `dir` for a session that writes `manifest`: creates it, refuses
+/// one with results unless `resume` (and then one of another experiment), carries the old
+/// sessions over, and opens the journal.
+pub(crate) fn open_dir(
+    dir: &Path,
+    manifest: &mut Manifest,
+    resume: bool,
+) -> Result<(Journal, journal::Reading), BatchError> {
+    std::fs::create_dir_all(dir).map_err(|source| BatchError::CreateDir {
+        path: dir.to_owned(),
+        source,
+    })?;
+    match Manifest::load(dir)? {
+        Some(_) if !resume => return Err(BatchError::Exists(dir.to_owned())),
+        Some(old) => {
+            check_resumable(dir, &old, manifest)?;
+            manifest.sessions = old.sessions;
+        }
+        None if journal::read(dir)?.records.is_empty() => {}
+        None => {
+            return Err(BatchError::Mismatch {
+                dir: dir.to_owned(),
+                why: format!("it holds run records but no {MANIFEST_FILE}"),
+            });
+        }
+    }
+    Ok(Journal::open(dir)?)
+}
+
+/// A pool of `jobs` worker threads.
+pub(crate) fn pool(jobs: usize) -> Result<rayon::ThreadPool, BatchError> {
+    rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
         .build()
         .map_err(|e| BatchError::Pool {
             jobs,
             message: e.to_string(),
-        })?;
-    let journal = Mutex::new(journal);
-    let records = Mutex::new(reading.records);
-    let counter = AtomicU64::new(skipped);
-    pool.install(|| {
-        pending
-            .par_iter()
-            .with_max_len(1)
-            .try_for_each(|&k| -> Result<(), JournalError> {
-                // Every planned run exists in the design.
-                let Some(spec) = exp.design.run(k) else {
-                    return Ok(());
-                };
-                let rec = execute(exp, runner, &spec);
-                journal
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .append(&rec)?;
-                let done = counter.fetch_add(1, Ordering::Relaxed) + 1;
-                progress(Progress {
-                    done,
-                    total: planned,
-                    before: skipped,
-                    record: &rec,
-                });
-                records
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .push(rec);
-                Ok(())
-            })
-    })?;
-    drop(journal);
-
-    let mut records = records.into_inner().unwrap_or_else(PoisonError::into_inner);
-    records.sort_by_key(|r| r.run);
-    manifest.set_statuses(&records);
-    if let Some(s) = manifest.sessions.last_mut() {
-        s.finished = Some(manifest::now());
-        s.runs_done = pending.len() as u64;
-    }
-    manifest.save(dir)?;
-    let tables = table::write_tables(dir, &manifest, &records)?;
-    Ok(BatchReport {
-        planned,
-        skipped,
-        ran: pending.len() as u64,
-        torn_dropped: reading.torn,
-        failed: failures(&records),
-        wall_s: started.elapsed().as_secs_f64(),
-        tables,
-    })
+        })
 }
 
 /// Whether a directory's old manifest is of the same experiment and share.
-fn check_resumable(dir: &Path, old: &Manifest, new: &Manifest) -> Result<(), BatchError> {
+pub(crate) fn check_resumable(
+    dir: &Path,
+    old: &Manifest,
+    new: &Manifest,
+) -> Result<(), BatchError> {
     let why = if old.experiment.sha256 != new.experiment.sha256 {
         Some(format!(
             "it holds results of another experiment file ({}, sha256 {}...)",
@@ -252,6 +277,13 @@ fn check_resumable(dir: &Path, old: &Manifest, new: &Manifest) -> Result<(), Bat
             "the scenario {} changed since these results were made",
             old.scenario.path
         ))
+    } else if old.search.as_ref().map(|s| s.key()) != new.search.as_ref().map(|s| s.key()) {
+        let show = |m: &Manifest| {
+            m.search
+                .as_ref()
+                .map_or_else(|| "a batch".to_owned(), |s| s.describe())
+        };
+        Some(format!("it holds {}, not {}", show(old), show(new)))
     } else if old.shard != new.shard {
         let show = |s: Option<Shard>| s.map_or_else(|| "all runs".to_owned(), |s| s.to_string());
         Some(format!(
@@ -278,68 +310,4 @@ pub fn failures(records: &[RunRecord]) -> Vec<(u64, String)> {
         .filter(|r| r.status == Status::Failed)
         .map(|r| (r.run, r.error.clone().unwrap_or_default()))
         .collect()
-}
-
-/// Makes one run; an error or a panic is a failed record.
-fn execute(exp: &Experiment, runner: &dyn Runner, spec: &RunSpec) -> RunRecord {
-    let scenario = exp.scenario_for(&spec.params);
-    let settings = RunSettings {
-        end_s: exp.end_s,
-        keep: &exp.keep,
-    };
-    let t0 = Instant::now();
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        runner.run(&scenario, spec.seed, &settings)
-    }));
-    let wall_s = t0.elapsed().as_secs_f64();
-    let mut rec = RunRecord {
-        run: spec.run,
-        point: spec.point,
-        replicate: spec.replicate,
-        seed: spec.seed,
-        params: spec.params.iter().cloned().collect(),
-        status: Status::Ok,
-        error: None,
-        wall_s,
-        metrics: Default::default(),
-        series: Vec::new(),
-    };
-    match outcome {
-        Ok(Ok(out)) => {
-            let keep = &exp.keep;
-            rec.metrics = out
-                .metrics
-                .into_iter()
-                .filter(|(k, _)| keep.metrics.contains(k))
-                .collect();
-            if !keep.series.is_empty() {
-                rec.series = out
-                    .series
-                    .into_iter()
-                    .map(|s| SeriesRow {
-                        t_s: s.t_s,
-                        values: s
-                            .values
-                            .into_iter()
-                            .filter(|(k, _)| keep.series.contains(k))
-                            .collect(),
-                    })
-                    .collect();
-            }
-        }
-        Ok(Err(message)) => {
-            rec.status = Status::Failed;
-            rec.error = Some(message);
-        }
-        Err(payload) => {
-            let what = payload
-                .downcast_ref::<&str>()
-                .map(|s| (*s).to_owned())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "a non-text payload".to_owned());
-            rec.status = Status::Failed;
-            rec.error = Some(format!("panicked: {what}"));
-        }
-    }
-    rec
 }

@@ -24,9 +24,12 @@
 
 use crate::design::{Design, Factor, Interval, Origin};
 use crate::diag::{Located, key_offset};
+use crate::keys::{scenario_kind, set_path};
 pub use crate::levels::{Levels, MAX_LEVELS, Number, RangeSpec};
 use crate::levels::{coerce, range_levels};
 use crate::runner::{Keep, Runner};
+use crate::search::spec::{self, Search, SearchFile};
+use crate::stop::{self, StopFile, StopRule};
 use crate::value::Value;
 use schemars::JsonSchema;
 use serde::Deserialize;
@@ -80,6 +83,11 @@ pub struct ExperimentFile {
     /// Which metrics and time series to keep.
     #[serde(default)]
     pub keep: KeepFile,
+    /// Conditioned replicates: stop adding replicates to a point once a metric's mean is
+    /// known well enough (`replicates` is then the most per point).
+    pub stop: Option<StopFile>,
+    /// What `vitro search` looks for and where.
+    pub search: Option<SearchFile>,
 }
 
 fn one() -> u32 {
@@ -156,6 +164,10 @@ pub struct Experiment {
     pub end_s: Option<f64>,
     /// What to keep.
     pub keep: Keep,
+    /// The stopping rule of a conditioned experiment.
+    pub stop: Option<StopRule>,
+    /// The search `vitro search` makes.
+    pub search: Option<Search>,
 }
 
 impl Experiment {
@@ -329,13 +341,50 @@ impl Experiment {
                 None => Ok(()),
             }
         };
-        let metrics = match &file.keep.metrics {
+        let mut metrics = match &file.keep.metrics {
             Some(m) => {
                 unknown(m, &["keep", "metrics"])?;
                 m.clone()
             }
             None => available.clone(),
         };
+        let stop = match &file.stop {
+            Some(f) => Some(
+                stop::check(f, file.replicates, &available)
+                    .map_err(|(key, m)| err(&["stop", key], m))?,
+            ),
+            None => None,
+        };
+        let search = match &file.search {
+            Some(f) => {
+                if file.latin_hypercube.is_some() || !file.parameters.is_empty() {
+                    return Err(err(
+                        &["search"],
+                        "a search sets its parameters under [search.parameters], not with \
+                         [parameters] or [latin_hypercube]"
+                            .into(),
+                    ));
+                }
+                let order = |p: &str| key_offset(&source, &["search", "parameters", p]);
+                let checked = spec::check(f, &scenario, &available, order).map_err(|(k, m)| {
+                    let keys: Vec<&str> = k.iter().map(String::as_str).collect();
+                    err(&keys, m)
+                })?;
+                Some(checked)
+            }
+            None => None,
+        };
+        // What the stopping rule, the objective and shrinking read is always kept.
+        let mut needed: Vec<String> = stop.iter().map(|s| s.metric.clone()).collect();
+        if let Some(s) = &search {
+            needed.extend(s.objective.metrics());
+            needed.extend(["trace_hash".to_owned(), "sim_time_s".to_owned()]);
+        }
+        for m in needed {
+            if available.contains(&m) && !metrics.contains(&m) {
+                metrics.push(m);
+            }
+        }
         unknown(&file.keep.series, &["keep", "series"])?;
         let every_s = match (file.keep.every_s, file.keep.series.is_empty()) {
             (Some(e), _) if !(e > 0.0 && e.is_finite()) => {
@@ -391,6 +440,8 @@ impl Experiment {
             design,
             end_s: file.end_s,
             keep,
+            stop,
+            search,
         })
     }
 
@@ -409,95 +460,6 @@ fn read(path: &Path) -> Result<String, ExperimentError> {
         file: path.display().to_string(),
         source,
     })
-}
-
-/// The scalar at dotted `path` of the scenario (its kind decides how levels are coerced).
-fn scenario_kind(scenario: &toml::Table, path: &str) -> Result<Value, String> {
-    let mut table = scenario;
-    let parts: Vec<&str> = path.split('.').collect();
-    let Some((last, parents)) = parts.split_last() else {
-        return Err("empty parameter path".into());
-    };
-    let mut i = 0;
-    while i < parents.len() {
-        match table.get(parents[i]) {
-            Some(toml::Value::Table(t)) => {
-                table = t;
-                i += 1;
-            }
-            Some(toml::Value::Array(items)) => {
-                // An array of tables (e.g. `[[entity]]`): the next part is its index.
-                let at = parents.get(i + 1).and_then(|p| p.parse::<usize>().ok());
-                match at.and_then(|k| items.get(k)) {
-                    Some(toml::Value::Table(t)) => {
-                        table = t;
-                        i += 2;
-                    }
-                    _ => {
-                        return Err(format!(
-                            "`{0}` is an array of {1} tables: vary `{0}.<index>.<key>`, \
-                             the index below {1}",
-                            parts[..=i].join("."),
-                            items.len(),
-                        ));
-                    }
-                }
-            }
-            Some(_) => {
-                return Err(format!(
-                    "unknown scenario key `{path}`: `{}` is not a table",
-                    parts[..=i].join(".")
-                ));
-            }
-            None => return Err(unknown_key(path, &parts[..i], table)),
-        }
-    }
-    match table.get(*last) {
-        None => Err(unknown_key(path, parents, table)),
-        Some(toml::Value::Table(_)) => Err(format!(
-            "`{path}` is a table in the scenario; vary one of its keys, e.g. `{path}.<key>`"
-        )),
-        Some(v) => Value::from_toml(v).ok_or_else(|| {
-            format!("`{path}` is not a number, a boolean or a string in the scenario")
-        }),
-    }
-}
-
-fn unknown_key(path: &str, parent: &[&str], table: &toml::Table) -> String {
-    let prefix = if parent.is_empty() {
-        String::new()
-    } else {
-        format!("{}.", parent.join("."))
-    };
-    let keys: Vec<String> = table.keys().map(|k| format!("{prefix}{k}")).collect();
-    format!(
-        "unknown scenario key `{path}` (the scenario must set a key to vary it); keys here: {}",
-        keys.join(", ")
-    )
-}
-
-/// Sets the value at dotted `path`, which [`scenario_kind`] found.
-fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) {
-    let mut parts = path.split('.').peekable();
-    let mut table = table;
-    while let Some(part) = parts.next() {
-        if parts.peek().is_none() {
-            table.insert(part.to_owned(), value);
-            return;
-        }
-        match table.get_mut(part) {
-            Some(toml::Value::Table(t)) => table = t,
-            Some(toml::Value::Array(items)) => {
-                // An array of tables: the next part is the index.
-                let at = parts.next().and_then(|p| p.parse::<usize>().ok());
-                match at.and_then(|k| items.get_mut(k)) {
-                    Some(toml::Value::Table(t)) => table = t,
-                    _ => return,
-                }
-            }
-            _ => return,
-        }
-    }
 }
 
 /// The JSON Schema of experiment files (pretty-printed), for editors and validators.

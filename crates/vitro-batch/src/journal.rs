@@ -223,7 +223,8 @@ pub fn write_all(dir: &Path, records: &[RunRecord]) -> Result<(), JournalError> 
         bytes.extend_from_slice(&line);
         bytes.push(b'\n');
     }
-    crate::manifest::write_atomic(&path, &bytes).map_err(|source| JournalError::Io { path, source })
+    crate::write_file::write_atomic(&path, &bytes)
+        .map_err(|source| JournalError::Io { path, source })
 }
 
 #[cfg(unix)]

@@ -35,7 +35,9 @@ pub mod diag;
 pub mod exec;
 pub mod experiment;
 pub mod journal;
+mod keys;
 mod levels;
+mod make;
 pub mod manifest;
 pub mod merge;
 #[cfg(feature = "parquet")]
@@ -43,8 +45,13 @@ mod parquet_out;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod runner;
+pub mod search;
+pub mod stats;
+pub mod stop;
 pub mod table;
+pub mod table_out;
 mod value;
+mod write_file;
 
 pub use exec::{BatchError, BatchOptions, BatchReport, Progress, run_batch};
 pub use experiment::{Experiment, ExperimentError, experiment_schema};

@@ -6,10 +6,11 @@ use crate::design::{Origin, Shard, seed_of};
 use crate::experiment::Experiment;
 use crate::journal::{RunRecord, Status};
 use crate::runner::Keep;
+use crate::stop::StopReport;
 use crate::value::Value;
+pub use crate::write_file::write_atomic;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
@@ -103,6 +104,12 @@ pub struct Manifest {
     pub merged_from: Vec<String>,
     /// Sessions that wrote here, oldest first.
     pub sessions: Vec<Session>,
+    /// A conditioned experiment's stopping rule and where each point stopped.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop: Option<StopReport>,
+    /// A search's settings and findings (`vitro search`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub search: Option<SearchInfo>,
     /// Every run of the directory's share: seed and status.
     pub runs: Vec<RunEntry>,
 }
@@ -167,6 +174,8 @@ impl Manifest {
             shard,
             merged_from: Vec::new(),
             sessions: Vec::new(),
+            stop: None,
+            search: None,
             runs: Vec::new(),
         };
         m.plan_runs((0..total).filter(|&k| share.contains(k)));
@@ -200,6 +209,20 @@ impl Manifest {
         for rec in records {
             if let Ok(i) = self.runs.binary_search_by_key(&rec.run, |e| e.run) {
                 self.runs[i].status = rec.status.as_str().into();
+            }
+        }
+        // A conditioned experiment's points stop early: their later replicates are not run.
+        if let Some(stop) = &self.stop {
+            let reps = u64::from(self.replicates.max(1));
+            for entry in &mut self.runs {
+                let (p, r) = (entry.run / reps, entry.run % reps);
+                let stopped = stop
+                    .points
+                    .get(p as usize)
+                    .is_some_and(|s| s.point == p && r >= u64::from(s.replicates));
+                if stopped && entry.status == "pending" {
+                    entry.status = NOT_NEEDED.into();
+                }
             }
         }
     }
@@ -247,6 +270,80 @@ impl Manifest {
     }
 }
 
+/// Status of a run a conditioned experiment did not need.
+pub const NOT_NEEDED: &str = "not_needed";
+
+/// A search's settings (those a resume must keep) and what it found.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SearchInfo {
+    /// `adaptive` or `random`.
+    pub strategy: String,
+    /// The search seed.
+    pub seed: u64,
+    /// Evaluations asked for (a resume may raise it).
+    pub budget: u64,
+    /// Evaluations per generation.
+    pub population: u32,
+    /// Share of the evaluations that steer the adaptive strategy.
+    pub elite: f64,
+    /// The objective, in words.
+    pub objective: String,
+    /// The range of a searched seed (`None`: run k's seed derives from the search seed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seed_range: Option<[u64; 2]>,
+    /// Failing runs found.
+    pub failures: u64,
+    /// The minimal failing scenarios written.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub minimal: Vec<MinimalInfo>,
+}
+
+impl SearchInfo {
+    /// What a resume must keep: strategy, seed, population, elite share and objective.
+    pub fn key(&self) -> (String, u64, u32, u64, String) {
+        (
+            self.strategy.clone(),
+            self.seed,
+            self.population,
+            self.elite.to_bits(),
+            self.objective.clone(),
+        )
+    }
+
+    /// `an adaptive search with seed 3`.
+    pub fn describe(&self) -> String {
+        format!(
+            "a{} {} search with seed {} (population {})",
+            if self.strategy.starts_with('a') {
+                "n"
+            } else {
+                ""
+            },
+            self.strategy,
+            self.seed,
+            self.population
+        )
+    }
+}
+
+/// A failing run shrunk to a minimal scenario.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MinimalInfo {
+    /// The failing run it started from.
+    pub run: u64,
+    /// The scenario file, relative to the result directory.
+    pub file: String,
+    /// The trace hash the scenario runs to.
+    pub trace_hash: String,
+    /// Runs the shrink made.
+    pub runs: u32,
+    /// What changed from the failing run, in order.
+    pub changes: Vec<String>,
+    /// Other failing runs that shrank to this same run (same trace hash).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub also: Vec<u64>,
+}
+
 /// A new session starting now.
 pub fn session(jobs: usize) -> Session {
     Session {
@@ -273,19 +370,6 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
         .iter()
         .map(|b| format!("{b:02x}"))
         .collect()
-}
-
-/// Writes `bytes` to `path` through a temporary file and a rename, synced, so that `path`
-/// holds either its old or its new content, never a mix.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    let mut f = std::fs::File::create(&tmp)?;
-    f.write_all(bytes)?;
-    f.sync_all()?;
-    drop(f);
-    std::fs::rename(&tmp, path)
 }
 
 /// The current time, RFC 3339 UTC to the second.

@@ -7,7 +7,7 @@
 use crate::exec::failures;
 use crate::journal::{self, JournalError, RunRecord};
 use crate::manifest::{self, MANIFEST_FILE, Manifest, ManifestError};
-use crate::table::{self, TableError};
+use crate::table_out::{self, TableError};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -154,7 +154,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeReport, MergeError> {
     merged.set_statuses(&records);
     journal::write_all(out, &records)?;
     merged.save(out)?;
-    let tables = table::write_tables(out, &merged, &records)?;
+    let tables = table_out::write_tables(out, &merged, &records)?;
     Ok(MergeReport {
         runs: records.len() as u64,
         total: merged.runs_total,

@@ -76,4 +76,19 @@ pub trait Runner: Sync {
         seed: u64,
         settings: &RunSettings<'_>,
     ) -> Result<RunOutput, String>;
+
+    /// The text of a complete scenario file that, written into directory `dir`, makes the
+    /// same run as `run(scenario, seed, end_s)` when run on its own (`vitro run FILE`): the
+    /// seed and end time set in it, relative paths rewritten for `dir`. `vitro search`
+    /// writes its minimal failing scenarios with it. The default cannot.
+    fn scenario_file(
+        &self,
+        scenario: &toml::Table,
+        seed: u64,
+        end_s: Option<f64>,
+        dir: &std::path::Path,
+    ) -> Result<String, String> {
+        let _ = (scenario, seed, end_s, dir);
+        Err("this kind of scenario cannot be written as a standalone file".into())
+    }
 }

@@ -8,9 +8,8 @@
 //! unsigned ids and seeds, integers, floats, booleans, strings; empty cells are nulls).
 
 use crate::journal::RunRecord;
-use crate::manifest::{Manifest, write_atomic};
+use crate::manifest::Manifest;
 use crate::value::Value;
-use std::path::{Path, PathBuf};
 
 /// A column's type, inferred from its values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -46,14 +45,14 @@ pub struct Column {
 }
 
 impl Column {
-    fn uint(name: &str, cells: Vec<u64>) -> Self {
+    pub(crate) fn uint(name: &str, cells: Vec<u64>) -> Self {
         Column {
             name: name.to_owned(),
             cells: Cells::UInt(cells),
         }
     }
 
-    fn values(name: &str, cells: Vec<Option<Value>>) -> Self {
+    pub(crate) fn values(name: &str, cells: Vec<Option<Value>>) -> Self {
         let kind = infer(&cells);
         let cells = cells
             .into_iter()
@@ -189,58 +188,6 @@ pub fn series(manifest: &Manifest, records: &[RunRecord]) -> Table {
         columns,
         rows: rows.len(),
     }
-}
-
-/// Why a table could not be written.
-#[derive(Debug, thiserror::Error)]
-pub enum TableError {
-    /// Writing a file failed.
-    #[error("{path}: {message}")]
-    Write {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        message: String,
-    },
-}
-
-/// Writes `summary.csv` (and `series.csv` if series are kept), plus their Parquet copies
-/// with the `parquet` feature, into `dir`; returns the files written.
-pub fn write_tables(
-    dir: &Path,
-    manifest: &Manifest,
-    records: &[RunRecord],
-) -> Result<Vec<PathBuf>, TableError> {
-    let mut tables = vec![("summary", summary(manifest, records))];
-    if !manifest.keep.series.is_empty() {
-        tables.push(("series", series(manifest, records)));
-    }
-    let mut written = Vec::new();
-    for (name, table) in &tables {
-        let path = dir.join(format!("{name}.csv"));
-        let fail = |message: String| TableError::Write {
-            path: path.clone(),
-            message,
-        };
-        let bytes = table.to_csv().map_err(|e| fail(e.to_string()))?;
-        write_atomic(&path, &bytes).map_err(|e| fail(e.to_string()))?;
-        written.push(path.clone());
-        #[cfg(feature = "parquet")]
-        {
-            let path = dir.join(format!("{name}.parquet"));
-            let bytes =
-                crate::parquet_out::to_parquet(table).map_err(|message| TableError::Write {
-                    path: path.clone(),
-                    message,
-                })?;
-            write_atomic(&path, &bytes).map_err(|e| TableError::Write {
-                path: path.clone(),
-                message: e.to_string(),
-            })?;
-            written.push(path);
-        }
-    }
-    Ok(written)
 }
 
 #[cfg(test)]

@@ -82,7 +82,7 @@ pub(crate) struct PlotArgs {
 /// The runner for the scenario `experiment` names: the mission's for mission scenarios,
 /// the demo's otherwise (an unreadable experiment goes to the demo's, whose loader reports
 /// the problem).
-fn runner_for(experiment: &std::path::Path) -> Box<dyn Runner> {
+pub(crate) fn runner_for(experiment: &std::path::Path) -> Box<dyn Runner> {
     let scenario = std::fs::read_to_string(experiment)
         .ok()
         .and_then(|t| t.parse::<toml::Table>().ok())
@@ -113,22 +113,22 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
     };
     let runner = runner_for(path);
     let runner: &dyn Runner = runner.as_ref();
-    let exp = Experiment::load(path, runner).map_err(|e| match e {
-        ExperimentError::Invalid(l) => {
-            Failure::Input(anyhow::Error::new(*l).context("invalid experiment"))
-        }
-        e => Failure::Input(e.into()),
-    })?;
-    let jobs = args.jobs.map_or_else(
-        || std::thread::available_parallelism().map_or(1, |n| n.get()),
-        |j| j as usize,
-    );
+    let exp = load(path, runner)?;
+    let jobs = jobs(args.jobs);
     let total = exp.design.runs().unwrap_or(0);
     let points = exp.design.points().unwrap_or(0);
     eprintln!(
-        "experiment {:?}: {total} runs ({points} points x {} replicates){}, {jobs} jobs -> {}",
+        "experiment {:?}: {total} runs ({points} points x {} replicates{}){}, {jobs} jobs -> {}",
         exp.name,
         exp.design.replicates,
+        if let Some(s) = &exp.stop {
+            format!(
+                " at most, fewer once the 95% CI of {} is within ±{}",
+                s.metric, s.half_width
+            )
+        } else {
+            String::new()
+        },
         args.shard
             .map(|s| format!(", shard {s}"))
             .unwrap_or_default(),
@@ -189,14 +189,43 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
         report.failed.len(),
         report.planned
     );
+    if let Some(stop) = &report.stop {
+        let met = stop.points.iter().filter(|p| p.met).count();
+        let runs: u32 = stop.points.iter().map(|p| p.replicates).sum();
+        eprintln!(
+            "conditioned: {met} of {} points reached a 95% CI of {} within ±{} ({runs} runs of {} at most; see manifest.json)",
+            stop.points.len(),
+            stop.rule.metric,
+            stop.rule.half_width,
+            report.planned
+        );
+    }
     for t in &report.tables {
         eprintln!("wrote {}", t.display());
     }
     fail_on_failed_runs(&report.failed, report.planned)
 }
 
+/// Loads the experiment at `path`; any problem is bad input.
+pub(crate) fn load(path: &std::path::Path, runner: &dyn Runner) -> Result<Experiment, Failure> {
+    Experiment::load(path, runner).map_err(|e| match e {
+        ExperimentError::Invalid(l) => {
+            Failure::Input(anyhow::Error::new(*l).context("invalid experiment"))
+        }
+        e => Failure::Input(e.into()),
+    })
+}
+
+/// Worker threads: `--jobs`, else the number of CPUs.
+pub(crate) fn jobs(arg: Option<u32>) -> usize {
+    arg.map_or_else(
+        || std::thread::available_parallelism().map_or(1, |n| n.get()),
+        |j| j as usize,
+    )
+}
+
 /// Exit 1 naming the failed runs, if any.
-fn fail_on_failed_runs(failed: &[(u64, String)], total: u64) -> Result<(), Failure> {
+pub(crate) fn fail_on_failed_runs(failed: &[(u64, String)], total: u64) -> Result<(), Failure> {
     if failed.is_empty() {
         return Ok(());
     }
@@ -218,7 +247,7 @@ fn fail_on_failed_runs(failed: &[(u64, String)], total: u64) -> Result<(), Failu
 }
 
 /// A bar on stderr when it is a terminal, else a hidden one.
-fn progress_bar() -> ProgressBar {
+pub(crate) fn progress_bar() -> ProgressBar {
     if !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }

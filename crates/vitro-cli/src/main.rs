@@ -11,6 +11,7 @@
 //! vitro map render FILE.osm.pbf --out map.png [--terrain GRID] [--offset X,Y]
 //! vitro terrain viewshed GRID --observer X,Y --observer-height H --target-height T --out MASK.asc
 //! vitro batch EXPERIMENT.toml --out DIR [--jobs N] [--shard I/N] [--resume]
+//! vitro search EXPERIMENT.toml --out DIR [--budget N] [--strategy adaptive|random] [--resume]
 //! vitro merge DIR... --out DIR
 //! vitro plot DIR --out PLOTS [--metric M]... [--hist M]... [--success M]
 //! ```
@@ -28,6 +29,7 @@ mod plan;
 mod record;
 mod run;
 mod run_args;
+mod search;
 mod solve;
 mod validate;
 mod view;
@@ -67,6 +69,8 @@ enum Command {
     Export(export::ExportCommand),
     /// Runs an experiment: a parameter sweep of a scenario, in parallel, resumable.
     Batch(batch::BatchArgs),
+    /// Searches an experiment's [search] parameters for failing runs and shrinks them.
+    Search(search::SearchArgs),
     /// Joins result directories (the shards) of one experiment into one.
     Merge(batch::MergeArgs),
     /// Plots a result directory (PNG and SVG).
@@ -89,6 +93,7 @@ fn main() -> ExitCode {
         Command::Run(args) => run::run(&args),
         Command::Validate { scenario } => validate::validate(&scenario),
         Command::Batch(args) => batch::batch(&args),
+        Command::Search(args) => search::search(&args),
         Command::Merge(args) => batch::merge_dirs(&args),
         Command::Plot(args) => batch::plot(&args),
         Command::Plan(args) => plan::plan(&args),

@@ -398,6 +398,24 @@ fn bad_input_exits_2_with_a_place() {
 }
 
 #[test]
+fn mission_experiments_validate() {
+    for name in [
+        "mission_search",
+        "mission_conditioned",
+        "mission_uav_loss",
+        "mission_repair",
+    ] {
+        let path = scenario(&format!("../../experiments/{name}.toml"));
+        let o = vitro(&["validate", &path]);
+        ok(&o);
+        assert!(
+            String::from_utf8_lossy(&o.stdout).contains(": ok (experiment"),
+            "{name}"
+        );
+    }
+}
+
+#[test]
 fn example_experiments_load() {
     for name in ["demo_sweep", "demo_lhs", "jobs_speedup"] {
         let path = scenario(&format!("../../experiments/{name}.toml"));

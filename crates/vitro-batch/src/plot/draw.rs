@@ -1,8 +1,8 @@
 //! Drawing the charts with plotters, once as PNG and once as SVG, labelled with the
 //! embedded DejaVu Sans (no system font library needed).
 
-use super::stats::MeanCi;
-use super::{Chart, PlotError};
+use super::error::PlotError;
+use crate::stats::MeanCi;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
@@ -25,6 +25,13 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(0, 0, 0),
 ];
 const GREY: RGBColor = RGBColor(90, 90, 90);
+
+/// A chart to draw.
+pub(crate) enum Chart {
+    Xy(XyChart),
+    Category(CategoryChart),
+    Hist(HistChart),
+}
 
 /// Lines (or dots) of means with confidence intervals over a numeric axis.
 pub(crate) struct XyChart {

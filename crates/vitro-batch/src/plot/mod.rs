@@ -13,13 +13,17 @@
 //! Failed runs are left out of the metric plots (the note under each title says how many).
 
 mod draw;
-pub mod stats;
+mod error;
+mod search;
+pub use crate::stats;
+pub use search::{SearchCurves, plot_search_curves};
 
 use crate::design::Origin;
-use crate::journal::{self, JournalError, RunRecord, Status};
-use crate::manifest::{MANIFEST_FILE, Manifest, ManifestError, ParamInfo};
+use crate::journal::{self, RunRecord, Status};
+use crate::manifest::{Manifest, ParamInfo};
 use crate::value::Value;
-use draw::{CategoryChart, HistChart, Line, XyChart};
+use draw::{CategoryChart, Chart, HistChart, Line, XyChart};
+pub use error::PlotError;
 use stats::{MeanCi, mean_ci, wilson};
 use std::path::{Path, PathBuf};
 
@@ -33,49 +37,6 @@ pub struct PlotOptions {
     /// Boolean metric that says whether a run succeeded (default: `success` if kept, else
     /// the run's status).
     pub success: Option<String>,
-}
-
-/// Why plots could not be made.
-#[derive(Debug, thiserror::Error)]
-pub enum PlotError {
-    /// The directory holds no results.
-    #[error("{0} is not a result directory (no {MANIFEST_FILE})")]
-    NotResults(PathBuf),
-    /// A metric was asked for that the results do not keep.
-    #[error("unknown metric `{name}`; kept metrics: {kept}")]
-    UnknownMetric {
-        /// The name.
-        name: String,
-        /// What is kept.
-        kept: String,
-    },
-    /// The success metric is not boolean.
-    #[error("success metric `{0}` is not a boolean metric")]
-    NotBoolean(String),
-    /// Reading the results failed.
-    #[error(transparent)]
-    Journal(#[from] JournalError),
-    /// Reading the manifest failed.
-    #[error(transparent)]
-    Manifest(#[from] ManifestError),
-    /// Drawing or writing a plot failed.
-    #[error("cannot draw {path}: {message}")]
-    Draw {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        message: String,
-    },
-}
-
-impl PlotError {
-    /// Whether the user's input is at fault.
-    pub fn is_input(&self) -> bool {
-        matches!(
-            self,
-            PlotError::NotResults(_) | PlotError::UnknownMetric { .. } | PlotError::NotBoolean(_)
-        )
-    }
 }
 
 /// Plots the results in `dir` into `out` (created); returns the files written.
@@ -93,13 +54,6 @@ pub fn plot_dir(dir: &Path, out: &Path, opts: &PlotOptions) -> Result<Vec<PathBu
         files.extend(draw::save(&chart, &out.join(sanitize(&name)))?);
     }
     Ok(files)
-}
-
-/// A chart to draw.
-pub(crate) enum Chart {
-    Xy(XyChart),
-    Category(CategoryChart),
-    Hist(HistChart),
 }
 
 /// Every chart of a result set, with its file stem.
@@ -147,7 +101,7 @@ fn charts(
         for p in &m.parameters {
             let chart = if categorical(p) {
                 category_means(m, p, metric, &ok, &left_out)
-            } else if p.origin == Origin::LatinHypercube {
+            } else if matches!(p.origin, Origin::LatinHypercube | Origin::Search) {
                 Chart::Xy(hypercube_dots(m, p, metric, &ok, &left_out))
             } else {
                 Chart::Xy(level_lines(m, p, metric, &ok, &left_out))
@@ -243,7 +197,7 @@ fn level_lines(
 ) -> XyChart {
     let others: Vec<&ParamInfo> = m.parameters.iter().filter(|q| q.path != p.path).collect();
     let group = match others.as_slice() {
-        [g] if g.origin != Origin::LatinHypercube && g.levels.len() <= 8 => Some(*g),
+        [g] if matches!(g.origin, Origin::List | Origin::Range) && g.levels.len() <= 8 => Some(*g),
         _ => None,
     };
     let line = |label: Option<String>, filter: &dyn Fn(&RunRecord) -> bool| Line {

@@ -29,6 +29,8 @@ fn manifest(params: Vec<ParamInfo>, metrics: &[&str]) -> Manifest {
         shard: None,
         merged_from: vec![],
         sessions: vec![],
+        stop: None,
+        search: None,
         runs: vec![],
     }
 }

@@ -96,6 +96,27 @@ impl Runner for DemoRunner {
             .collect();
         Ok(RunOutput { metrics, series })
     }
+
+    fn scenario_file(
+        &self,
+        scenario: &toml::Table,
+        seed: u64,
+        end_s: Option<f64>,
+        _dir: &std::path::Path,
+    ) -> Result<String, String> {
+        let mut t = scenario.clone();
+        let seed =
+            i64::try_from(seed).map_err(|_| format!("seed {seed} does not fit a TOML integer"))?;
+        t.insert("seed".into(), toml::Value::Integer(seed));
+        if let Some(end) = end_s {
+            let old = t.get("end_s").and_then(toml::Value::as_float);
+            t.insert(
+                "end_s".into(),
+                toml::Value::Float(old.map_or(end, |o| o.min(end))),
+            );
+        }
+        toml::to_string(&t).map_err(|e| e.to_string())
+    }
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 //! the mission with the run's seed and runs it, sampling the kept series.
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Component, Path, PathBuf};
 use vitro::time::SimTime;
 use vitro_batch::{RunOutput, RunSettings, Runner, SeriesRow, Value};
 use vitro_evac::Mission;
@@ -111,4 +111,67 @@ impl Runner for MissionRunner {
             .collect();
         Ok(RunOutput { metrics, series })
     }
+
+    fn scenario_file(
+        &self,
+        scenario: &toml::Table,
+        seed: u64,
+        end_s: Option<f64>,
+        dir: &Path,
+    ) -> Result<String, String> {
+        let mut t = scenario.clone();
+        let seed =
+            i64::try_from(seed).map_err(|_| format!("seed {seed} does not fit a TOML integer"))?;
+        t.insert("seed".into(), toml::Value::Integer(seed));
+        if let Some(end) = end_s {
+            let table = t
+                .entry("end")
+                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+            if let toml::Value::Table(e) = table {
+                let old = e.get("time_s").and_then(toml::Value::as_float);
+                let time = old.map_or(end, |o| o.min(end));
+                e.insert("time_s".into(), toml::Value::Float(time));
+            }
+        }
+        // Files the scenario names resolve from its own directory: rewrite them for `dir`.
+        let from = self.path.parent().unwrap_or(Path::new(""));
+        for (table, key) in [
+            ("site", "map"),
+            ("site", "terrain"),
+            ("formation", "program"),
+        ] {
+            let Some(toml::Value::Table(sub)) = t.get_mut(table) else {
+                continue;
+            };
+            let Some(toml::Value::String(p)) = sub.get(key) else {
+                continue;
+            };
+            if Path::new(p).is_absolute() {
+                continue;
+            }
+            let moved = relative(&from.join(p), dir)?;
+            sub.insert(key.into(), toml::Value::String(moved));
+        }
+        toml::to_string(&t).map_err(|e| e.to_string())
+    }
+}
+
+/// `target` as a path relative to directory `dir` (both must exist).
+fn relative(target: &Path, dir: &Path) -> Result<String, String> {
+    let abs = |p: &Path| {
+        p.canonicalize()
+            .map_err(|e| format!("{}: {e}", p.display()))
+    };
+    let (target, dir) = (abs(target)?, abs(dir)?);
+    let t: Vec<Component> = target.components().collect();
+    let d: Vec<Component> = dir.components().collect();
+    let common = t.iter().zip(&d).take_while(|(a, b)| a == b).count();
+    let mut out = PathBuf::new();
+    for _ in common..d.len() {
+        out.push("..");
+    }
+    for c in &t[common..] {
+        out.push(c.as_os_str());
+    }
+    Ok(out.to_string_lossy().replace('\\', "/"))
 }

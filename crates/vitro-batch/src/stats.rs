@@ -1,5 +1,5 @@
-//! Summary statistics for the plots: means with Student-t confidence intervals, Wilson
-//! intervals for rates, histogram bins.
+//! Summary statistics for the plots and the conditioned replicates: means with Student-t
+//! confidence intervals, Wilson intervals for rates, histogram bins.
 
 /// Mean of a sample with its two-sided 95% confidence interval.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -18,7 +18,7 @@ pub struct MeanCi {
 /// `None` if there is none.
 ///
 /// ```
-/// use vitro_batch::plot::stats::mean_ci;
+/// use vitro_batch::stats::mean_ci;
 /// let m = mean_ci(&[1.0, 2.0, 3.0]).unwrap();
 /// assert_eq!(m.mean, 2.0);
 /// assert!((m.hi - (2.0 + 4.303 / 3f64.sqrt())).abs() < 1e-3);
@@ -69,7 +69,7 @@ pub fn t975(df: usize) -> f64 {
 /// A rate `k / n` with its 95% Wilson score interval; `None` if `n == 0`.
 ///
 /// ```
-/// use vitro_batch::plot::stats::wilson;
+/// use vitro_batch::stats::wilson;
 /// let r = wilson(10, 10).unwrap();
 /// assert_eq!(r.mean, 1.0);
 /// assert!((r.lo - 0.7225).abs() < 1e-3 && r.hi > 0.9999);
