@@ -1,6 +1,5 @@
-//! `vitro batch`, `vitro merge` and `vitro plot`: experiment suites over a mission scenario
-//! ([`mission_runner::MissionRunner`]) or the patrolling-cars demo
-//! ([`demo_runner::DemoRunner`]), chosen by the scenario the experiment names.
+//! `vitro batch`, `vitro merge` and `vitro plot`: experiment suites over the scenario an
+//! experiment names, run by the mission its `kind` names ([`plugin_runner::PluginRunner`]).
 //!
 //! ```text
 //! vitro batch EXPERIMENT.toml --out DIR [--jobs N] [--shard I/N] [--resume]
@@ -9,15 +8,13 @@
 //! vitro plot DIR --out PLOTS [--metric M]... [--hist M]... [--success M]
 //! ```
 
-mod demo_runner;
-mod mission_runner;
+mod plugin_runner;
 
 use crate::Failure;
 use anyhow::anyhow;
 use clap::Args;
-use demo_runner::DemoRunner;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use mission_runner::MissionRunner;
+use plugin_runner::{NoMission, PluginRunner};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use vitro_batch::Runner;
@@ -79,26 +76,22 @@ pub(crate) struct PlotArgs {
     success: Option<String>,
 }
 
-/// The runner for the scenario `experiment` names: the mission's for mission scenarios,
-/// the demo's otherwise (an unreadable experiment goes to the demo's, whose loader reports
-/// the problem).
+/// The runner for the scenario `experiment` names: its mission's, looked up by the
+/// scenario's `kind`. When there is none (no scenario, an unreadable one, no or an unknown
+/// kind) the runner says why, and loading the experiment reports it at its place.
 pub(crate) fn runner_for(experiment: &std::path::Path) -> Box<dyn Runner> {
     let scenario = std::fs::read_to_string(experiment)
         .ok()
         .and_then(|t| t.parse::<toml::Table>().ok())
         .and_then(|t| t.get("scenario")?.as_str().map(str::to_owned));
     let dir = experiment.parent().unwrap_or(std::path::Path::new(""));
-    match scenario.map(|s| dir.join(s)) {
-        Some(path) if is_evacuation(&path) => Box::new(MissionRunner { path }),
-        _ => Box::new(DemoRunner),
+    let Some(path) = scenario.map(|s| dir.join(s)) else {
+        return Box::new(NoMission("the experiment names no scenario file".into()));
+    };
+    match crate::missions::registry().read(&path) {
+        Ok((mission, _)) => Box::new(PluginRunner { mission, path }),
+        Err(e) => Box::new(NoMission(e.to_string())),
     }
-}
-
-/// True if the scenario at `path` names the evacuation as its kind.
-fn is_evacuation(path: &std::path::Path) -> bool {
-    crate::missions::registry()
-        .read(path)
-        .is_ok_and(|(m, _)| m.kind() == "evacuation")
 }
 
 pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
