@@ -52,7 +52,7 @@ pub(crate) fn random(chain: &Chain, rng: &mut impl rand::Rng) -> Vec<f64> {
         let mut sum = 0.0;
         for e in row.clone() {
             let u: f64 = rng.random();
-            alpha[e] = -(1.0 - u).ln();
+            alpha[e] = -libm::log(1.0 - u);
             sum += alpha[e];
         }
         for e in row {

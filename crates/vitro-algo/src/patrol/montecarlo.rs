@@ -84,7 +84,7 @@ pub fn monte_carlo(
     let exact = policy.attacks(instance)?;
     let options_count = exact.len();
     let delta = (1.0 - options.confidence) / options_count as f64;
-    let half_width = ((2.0 / delta).ln() / (2.0 * f64::from(options.trials))).sqrt();
+    let half_width = libm::sqrt(libm::log(2.0 / delta) / (2.0 * f64::from(options.trials)));
     let mut attacks = Vec::with_capacity(options_count);
     let (mut value, mut value_lo, mut value_hi) = (0.0f64, 0.0f64, 0.0f64);
     for option in &exact {

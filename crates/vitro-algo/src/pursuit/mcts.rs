@@ -264,7 +264,7 @@ impl Search<'_> {
     /// UCT child choice among fully expanded children (ties: the first).
     fn select(&self, node: usize) -> usize {
         let parent = &self.nodes[node];
-        let log_n = parent.visits.max(1.0).ln();
+        let log_n = libm::log(parent.visits.max(1.0));
         let mut best = 0;
         let mut best_score = f64::NEG_INFINITY;
         for (i, &c) in parent.children.iter().enumerate() {

@@ -376,7 +376,7 @@ mod tests {
                 let rr = ri as f64 * 0.02;
                 for k in 0..720 {
                     let t = k as f64 * std::f64::consts::PI / 360.0;
-                    let c = [p[0] + rr * t.cos(), p[1] + rr * t.sin()];
+                    let c = [p[0] + rr * libm::cos(t), p[1] + rr * libm::sin(t)];
                     if !z.is_forbidden(c) {
                         best = best.min(rr);
                     }

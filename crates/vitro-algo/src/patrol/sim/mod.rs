@@ -251,7 +251,7 @@ fn report(
             } else {
                 let n = f64::from(trials);
                 let p = f64::from(captures) / n;
-                let half = ((2.0 / delta).ln() / (2.0 * n)).sqrt();
+                let half = libm::sqrt(libm::log(2.0 / delta) / (2.0 * n));
                 (p, sum / n, ((p - half).max(0.0), (p + half).min(1.0)))
             };
             let worth = instance.targets[choice.target].value;
