@@ -19,7 +19,7 @@ use vitro_tactical::arena::Ev;
 use vitro_tactical::check::Setup;
 use vitro_tactical::check::scenario::trip;
 use vitro_tactical::entity::Level;
-use vitro_tactical::formation::{
+use vitro_tactical::behaviour::formation::{
     FormationParams, LEADER_PROGRAM, Leader, Member, Pattern, Script, Switch, TrackPoint,
 };
 use vitro_tactical::model::Tactical;

@@ -13,7 +13,7 @@
 //! use vitro_tactical::actuate::ground::discrete::GoToNode;
 //! use vitro_tactical::arena::{Arena, Ev};
 //! use vitro_tactical::entity::Level;
-//! use vitro_tactical::mission::VisitNodes;
+//! use vitro_tactical::behaviour::route::VisitNodes;
 //! use vitro_tactical::model::{Controller, Tactical};
 //! use vitro_tactical::types::GroundKind;
 //! # use vitro_site::{map::{MapConfig, TownMap}, site::{Site, SiteConfig}, terrain::Terrain};

@@ -15,7 +15,7 @@ use vitro_tactical::check::Setup;
 use vitro_tactical::check::scenario::trip;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::route::Track;
-use vitro_tactical::formation::{
+use vitro_tactical::behaviour::formation::{
     Arrival, FormationError, FormationParams, LEADER_PROGRAM, Leader, Member, Pattern, Script,
     Switch, TrackPoint,
 };

@@ -14,7 +14,7 @@ use crate::entity::Level;
 use crate::entity::air::{AirKind, FlightCommand};
 use crate::entity::roads::FreeGraph;
 use crate::entity::route::Track;
-use crate::mission::{FlightMission, Leg, VisitNodes};
+use crate::behaviour::route::{FlightMission, Leg, VisitNodes};
 use crate::model::{Controller, Tactical};
 use crate::types::{GroundKind, TroopKind, VtolKind};
 use vitro::entity::EntityId;

@@ -111,7 +111,7 @@
 //! use vitro::prelude::*;
 //! use vitro_tactical::arena::{Arena, Ev};
 //! use vitro_tactical::entity::Level;
-//! use vitro_tactical::formation::{FormationParams, LEADER_PROGRAM, Leader, Member, Script};
+//! use vitro_tactical::behaviour::formation::{FormationParams, LEADER_PROGRAM, Leader, Member, Script};
 //! use vitro_tactical::model::Tactical;
 //! use vitro_tactical::radio::{Order, Radio};
 //! use vitro_tactical::types::TroopKind;
