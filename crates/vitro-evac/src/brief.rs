@@ -9,9 +9,9 @@ use vitro::env::NodeId;
 use vitro_site::geo::P2;
 use vitro_site::map::Mode;
 use vitro_site::site::Site;
+use vitro_tactical::behaviour::formation::FormationParams;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::roads::Roads;
-use vitro_tactical::behaviour::formation::FormationParams;
 use vitro_tactical::scenario::{MissionSpec, PatrolSpec, PursuitSpec, RepairSpec, SensorsSpec};
 use vitro_tactical::types::TroopKind;
 

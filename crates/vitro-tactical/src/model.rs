@@ -125,6 +125,7 @@ impl Model for Tactical {
 pub fn run_env_event(env: &mut Arena, event: &Ev, fx: &mut Effects<'_, Ev>) {
     match event {
         Ev::Hop(who) => actuate::on_hop(env, *who, fx),
+        Ev::Tick(clock) if !env.is_due(*clock, fx) => {} // stale or forged: ignored
         Ev::Tick(Clock::Kinematic) => actuate::tick_kinematic(env, fx),
         Ev::Tick(Clock::Physics) => actuate::tick_physics(env, fx),
         Ev::Tick(Clock::Flight) => autopilot::tick_flight(env, fx),

@@ -3,7 +3,7 @@
 //! and — when sent after the high-value target — hunt it as a team (the first pursuer runs
 //! the search, see [`hunt`](super::hunt)).
 
-use super::hunt::{Hunt, HuntStep, LEAD_SILENT_TURNS, SILENT, TurnClock};
+use super::hunt::{Hunt, TurnClock};
 use super::squad::{self, Part, Squad, note};
 use super::{Reporter, SENSE, tell};
 use crate::act::{ActError, Board, Capture, Walk};
@@ -18,10 +18,10 @@ use vitro::time::{SimDuration, SimTime};
 use vitro_site::map::Mode;
 use vitro_tactical::actuate::troop::directed::MoveAndTurn;
 use vitro_tactical::arena::{Ev, TrackTarget};
+use vitro_tactical::behaviour::formation::{Leader, Member};
 use vitro_tactical::condition::Status;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::troop::StepCmd;
-use vitro_tactical::behaviour::formation::{Leader, Member};
 use vitro_tactical::model::{Controller, Intention, Tactical};
 use vitro_tactical::radio::{Order, Radio};
 

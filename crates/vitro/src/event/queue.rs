@@ -319,6 +319,14 @@ impl<T> EventQueue<T> {
         }
     }
 
+    /// The payload of a pending event; `None` if it already fired or was cancelled.
+    pub fn get(&self, id: EventId) -> Option<&T> {
+        match self.slots.get(id.slot as usize) {
+            Some(Slot::Pending { seq, payload, .. }) if *seq == id.seq => Some(payload),
+            _ => None,
+        }
+    }
+
     /// True if the event is still pending.
     pub fn is_pending(&self, id: EventId) -> bool {
         matches!(self.slots.get(id.slot as usize), Some(Slot::Pending { seq, .. }) if *seq == id.seq)

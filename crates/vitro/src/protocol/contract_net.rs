@@ -31,11 +31,10 @@
 //! when a `done` report is lost and the task re-announced: contract net is at-least-once.
 
 use super::{DEFAULT_MESSAGE_SIZE, Handled, Reply, TimerTag, answer, conversation_id, send};
-use crate::comm::{Address, DeliveryError, Envelope, GroupId, Performative, Protocol};
+use crate::comm::{Address, DeliveryError, Envelope, Performative, Protocol};
 use crate::entity::EntityId;
-use crate::event::EventId;
+use crate::event::OwnEventId;
 use crate::sim::{Context, Input, Model};
-use crate::time::SimDuration;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -71,7 +70,7 @@ enum Phase<Msg> {
 struct Call<Msg> {
     task: u64,
     cfp: Msg,
-    timer: EventId,
+    timer: OwnEventId,
     phase: Phase<Msg>,
 }
 
@@ -90,7 +89,7 @@ pub struct ContractNet<Msg> {
     calls: BTreeMap<u64, Call<Msg>>,
     next_expiry: u64,
     /// Participant: proposals awaiting an answer, with their expiry index and timer.
-    proposals: BTreeMap<Reply, (u64, EventId)>,
+    proposals: BTreeMap<Reply, (u64, OwnEventId)>,
     /// Participant: expiry index → proposal.
     expiries: BTreeMap<u64, Reply>,
 }

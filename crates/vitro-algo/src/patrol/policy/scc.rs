@@ -2,7 +2,10 @@
 
 /// Strongly connected components of the graph on `0..count` given by `successors`
 /// (Kosaraju, iterative): the component index of every vertex.
-pub(super) fn strong_components(count: usize, successors: &dyn Fn(usize) -> Vec<usize>) -> Vec<usize> {
+pub(super) fn strong_components(
+    count: usize,
+    successors: &dyn Fn(usize) -> Vec<usize>,
+) -> Vec<usize> {
     // First pass: finishing order of a depth-first search.
     let mut seen = vec![false; count];
     let mut order = Vec::with_capacity(count);

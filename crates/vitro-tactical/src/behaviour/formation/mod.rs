@@ -180,9 +180,9 @@ use vitro::time::SimDuration;
 use vitro_algo::rules::RuleError;
 
 /// The leader's rule program (`data/rules/formation/leader.jz`).
-pub const LEADER_PROGRAM: &str = include_str!("../../../../data/rules/formation/leader.jz");
+pub const LEADER_PROGRAM: &str = include_str!("../../../../../data/rules/formation/leader.jz");
 /// The members' rule program (`data/rules/formation/member.jz`).
-pub const MEMBER_PROGRAM: &str = include_str!("../../../../data/rules/formation/member.jz");
+pub const MEMBER_PROGRAM: &str = include_str!("../../../../../data/rules/formation/member.jz");
 
 /// Why a formation controller could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
