@@ -91,7 +91,7 @@ pub struct Patroller {
     /// Visits made since my last claim went out.
     recent: Vec<(NodeId, SimTime)>,
     /// The pending decision, if one is under way.
-    deciding: Option<EventId>,
+    deciding: Option<OwnEventId>,
     /// Price of deliberation.
     cost: CostModel,
     /// Seconds of idleness a second of travel is worth.

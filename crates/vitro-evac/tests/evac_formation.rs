@@ -11,8 +11,8 @@ use vitro::entity::EntityId;
 use vitro::time::SimTime;
 use vitro_evac::Mission;
 use vitro_evac::agents::commander::Phase;
+use vitro_tactical::behaviour::formation::{Switch, TrackPoint};
 use vitro_tactical::condition::Status;
-use vitro_tactical::formation::{Switch, TrackPoint};
 use vitro_tactical::scenario::{EntityType, FidelitySpec, Preset, ScenarioFile};
 
 const SCENARIO: &str = concat!(

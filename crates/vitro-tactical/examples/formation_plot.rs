@@ -16,12 +16,12 @@ use vitro::prelude::*;
 use vitro_site::map::Mode;
 use vitro_site::render::{Overlay, RenderOptions, render_site_with};
 use vitro_tactical::arena::Ev;
+use vitro_tactical::behaviour::formation::{
+    FormationParams, LEADER_PROGRAM, Leader, Member, Pattern, Script, Switch, TrackPoint,
+};
 use vitro_tactical::check::Setup;
 use vitro_tactical::check::scenario::trip;
 use vitro_tactical::entity::Level;
-use vitro_tactical::formation::{
-    FormationParams, LEADER_PROGRAM, Leader, Member, Pattern, Script, Switch, TrackPoint,
-};
 use vitro_tactical::model::Tactical;
 use vitro_tactical::radio::{Order, Radio};
 use vitro_tactical::types::TroopKind;

@@ -19,10 +19,10 @@ use vitro::rng::Owner;
 use vitro_tactical::actuate::{ground, troop};
 use vitro_tactical::arena::Ev;
 use vitro_tactical::autopilot;
+use vitro_tactical::behaviour::route::{FlightMission, Leg, VisitNodes};
 use vitro_tactical::check::Setup;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::roads::FreeGraph;
-use vitro_tactical::mission::{FlightMission, Leg, VisitNodes};
 use vitro_tactical::model::{Controller, Tactical};
 use vitro_tactical::types::{CtolKind, GroundKind, TroopKind, VtolKind};
 

@@ -29,7 +29,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::env::{Effects, EntityStorage, NodeId, Probe, Sensor};
-use vitro::event::Target;
+use vitro::event::{EventId, Target};
 use vitro::time::SimDuration;
 use vitro::trace::TraceHasher;
 use vitro_site::map::Mode;
@@ -148,7 +148,8 @@ pub struct Arena {
     /// Tracks planned so far, by body kind, start and goal node (a trip depends on nothing
     /// else, and vehicles on rounds drive the same trips again).
     pub(crate) tracks: TrackCache,
-    running: [bool; 3],
+    /// Per clock: its next tick, while it runs.
+    next_tick: [Option<EventId>; 3],
 }
 
 /// Most tracks kept in an arena's cache; it is emptied when full.
@@ -204,7 +205,7 @@ impl Arena {
             pilots: EntityStorage::default(),
             conditions: EntityStorage::default(),
             tracks: TrackCache::default(),
-            running: [false; 3],
+            next_tick: [None; 3],
         }
     }
 
@@ -472,18 +473,23 @@ impl Arena {
 
     /// Starts `clock` (its first tick one step from now) unless it is running.
     pub fn wake(&mut self, clock: Clock, fx: &mut Effects<'_, Ev>) {
-        if !self.running[clock.index()] {
-            self.running[clock.index()] = true;
-            fx.schedule_in(self.step_of(clock), Target::Env, Ev::Tick(clock));
+        if self.next_tick[clock.index()].is_none() {
+            let id = fx.schedule_in(self.step_of(clock), Target::Env, Ev::Tick(clock));
+            self.next_tick[clock.index()] = Some(id);
         }
+    }
+
+    /// True if the environment event being handled is the next tick of `clock` (a stale or
+    /// forged tick is not: it would step the clock twice). Always true outside the
+    /// environment's event handler (a harness stepping the clock itself).
+    pub fn is_due(&self, clock: Clock, fx: &Effects<'_, Ev>) -> bool {
+        fx.fired().is_none() || fx.fired() == self.next_tick[clock.index()]
     }
 
     /// Schedules the next tick of `clock` if `busy`, or marks it stopped.
     pub fn keep(&mut self, clock: Clock, busy: bool, fx: &mut Effects<'_, Ev>) {
-        self.running[clock.index()] = busy;
-        if busy {
-            fx.schedule_in(self.step_of(clock), Target::Env, Ev::Tick(clock));
-        }
+        self.next_tick[clock.index()] =
+            busy.then(|| fx.schedule_in(self.step_of(clock), Target::Env, Ev::Tick(clock)));
     }
 
     /// The step of `clock`.
@@ -497,7 +503,7 @@ impl Arena {
 
     /// True if `clock` is running.
     pub fn is_running(&self, clock: Clock) -> bool {
-        self.running[clock.index()]
+        self.next_tick[clock.index()].is_some()
     }
 
     /// A digest of every storage's writes (part of the trace hash).
@@ -518,7 +524,7 @@ impl Arena {
             h.write_u64(d);
         }
         for c in Clock::ALL {
-            h.write_u64(u64::from(self.running[c.index()]));
+            h.write_u64(u64::from(self.is_running(c)));
         }
         h.finish()
     }

@@ -13,7 +13,7 @@
 //! use vitro_tactical::actuate::ground::discrete::GoToNode;
 //! use vitro_tactical::arena::{Arena, Ev};
 //! use vitro_tactical::entity::Level;
-//! use vitro_tactical::mission::VisitNodes;
+//! use vitro_tactical::behaviour::route::VisitNodes;
 //! use vitro_tactical::model::{Controller, Tactical};
 //! use vitro_tactical::types::GroundKind;
 //! # use vitro_site::{map::{MapConfig, TownMap}, site::{Site, SiteConfig}, terrain::Terrain};
@@ -125,6 +125,7 @@ impl Model for Tactical {
 pub fn run_env_event(env: &mut Arena, event: &Ev, fx: &mut Effects<'_, Ev>) {
     match event {
         Ev::Hop(who) => actuate::on_hop(env, *who, fx),
+        Ev::Tick(clock) if !env.is_due(*clock, fx) => {} // stale or forged: ignored
         Ev::Tick(Clock::Kinematic) => actuate::tick_kinematic(env, fx),
         Ev::Tick(Clock::Physics) => actuate::tick_physics(env, fx),
         Ev::Tick(Clock::Flight) => autopilot::tick_flight(env, fx),

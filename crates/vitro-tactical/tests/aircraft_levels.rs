@@ -8,9 +8,9 @@ use std::sync::Arc;
 use vitro::prelude::*;
 use vitro_tactical::arena::{Arena, Ev};
 use vitro_tactical::autopilot::{self, FlyError};
+use vitro_tactical::behaviour::route::{FlightMission, Leg};
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::air::ctol::FlyCmd;
-use vitro_tactical::mission::{FlightMission, Leg};
 use vitro_tactical::model::{Controller, Tactical};
 use vitro_tactical::types::{BUILTIN_TYPES, CtolKind, G, TypeBook, VtolKind};
 
@@ -294,7 +294,7 @@ where
         + 'static,
 {
     use vitro_tactical::actuate::ground::interpolated::GoToNode;
-    use vitro_tactical::mission::VisitNodes;
+    use vitro_tactical::behaviour::route::VisitNodes;
     use vitro_tactical::types::GroundKind;
     let (site, roads) = town();
     let e = site.map.extent;

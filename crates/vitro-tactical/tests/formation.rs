@@ -11,14 +11,14 @@ use std::time::Instant;
 use vitro::prelude::*;
 use vitro_site::map::Mode;
 use vitro_tactical::arena::Ev;
+use vitro_tactical::behaviour::formation::{
+    Arrival, FormationError, FormationParams, LEADER_PROGRAM, Leader, Member, Pattern, Script,
+    Switch, TrackPoint,
+};
 use vitro_tactical::check::Setup;
 use vitro_tactical::check::scenario::trip;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::route::Track;
-use vitro_tactical::formation::{
-    Arrival, FormationError, FormationParams, LEADER_PROGRAM, Leader, Member, Pattern, Script,
-    Switch, TrackPoint,
-};
 use vitro_tactical::model::{Controller, Tactical};
 use vitro_tactical::radio::{Order, Radio};
 use vitro_tactical::types::TroopKind;

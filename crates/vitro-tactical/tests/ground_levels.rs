@@ -8,9 +8,9 @@ use vitro::prelude::*;
 use vitro_tactical::actuate::MoveError;
 use vitro_tactical::actuate::ground::{discrete, interpolated, physical};
 use vitro_tactical::arena::{Arena, Ev};
+use vitro_tactical::behaviour::route::VisitNodes;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::route::Track;
-use vitro_tactical::mission::VisitNodes;
 use vitro_tactical::model::{Controller, Tactical};
 use vitro_tactical::types::{BUILTIN_TYPES, GroundKind, TypeBook};
 

@@ -59,8 +59,7 @@ impl Agent<HoldModel> for Holder {
     fn handle(&mut self, input: Input<'_, HoldModel>, cx: &mut Context<'_, HoldModel>) {
         if let Input::Event(&hops) = input {
             let dt = exp_ns(cx.rng("hold"));
-            let me = cx.me();
-            cx.schedule_in(SimDuration::from_nanos(dt), Target::Entity(me), hops + 1);
+            cx.schedule_in(SimDuration::from_nanos(dt), hops + 1);
         }
     }
 }

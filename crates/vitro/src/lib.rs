@@ -50,7 +50,7 @@
 //!         let here = cx.sense(&Odometer);
 //!         if here != self.goal {
 //!             cx.act(&Wheel, (self.goal - here).signum()).unwrap();
-//!             cx.schedule_in(SimDuration::from_secs(1), Target::Entity(cx.me()), Tick);
+//!             cx.schedule_in(SimDuration::from_secs(1), Tick);
 //!         }
 //!     }
 //! }
@@ -83,7 +83,7 @@ pub mod prelude {
     pub use crate::env::{
         Actuator, Effects, EntityStorage, GraphStorage, KeyValueStorage, NodeId, Probe, Sensor,
     };
-    pub use crate::event::{EventId, Target};
+    pub use crate::event::{EventId, OwnEventId, Target};
     pub use crate::sim::{Agent, Context, CostModel, Input, Model, Simulation, StopReason};
     pub use crate::time::{SimDuration, SimTime};
 }

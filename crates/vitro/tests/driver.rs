@@ -12,7 +12,10 @@ struct Log;
 #[derive(Clone, Debug, PartialEq, Serialize)]
 enum Ev {
     Mark(u32),
-    Cancel(EventId),
+    /// Schedule `Mark(5)` for myself at 5 s and publish its id.
+    Plan,
+    /// Cancel the published id.
+    CancelPlanned,
     Think(u64),
     Thought,
     Stop,
@@ -21,11 +24,21 @@ enum Ev {
 #[derive(Default)]
 struct Logger {
     seen: Arc<Mutex<Vec<(SimTime, EntityId, String)>>>,
+    /// An id one agent scheduled for itself, shared with the others (a forged hand-over).
+    planned: Arc<Mutex<Option<OwnEventId>>>,
 }
 impl Agent<Log> for Logger {
     fn handle(&mut self, input: Input<'_, Log>, cx: &mut Context<'_, Log>) {
         let what = match input {
-            Input::Event(Ev::Cancel(id)) => format!("cancel:{}", cx.cancel(*id)),
+            Input::Event(Ev::Plan) => {
+                let id = cx.schedule_at(SimTime::from_secs(5), Ev::Mark(5));
+                *self.planned.lock().expect("lock") = Some(id.expect("future"));
+                "plan".into()
+            }
+            Input::Event(Ev::CancelPlanned) => {
+                let id = self.planned.lock().expect("lock").expect("planned");
+                format!("cancel:{}", cx.cancel(id))
+            }
             Input::Event(Ev::Think(units)) => {
                 let cost = CostModel {
                     base: SimDuration::from_millis(5),
@@ -66,11 +79,15 @@ type Seen = Arc<Mutex<Vec<(SimTime, EntityId, String)>>>;
 
 fn log_sim(n: usize) -> (Simulation<Log>, Seen, Vec<EntityId>) {
     let seen: Seen = Arc::default();
+    let planned = Arc::default();
     let mut sim = Simulation::<Log>::new((), 0);
     let ids = (0..n)
         .map(|i| {
-            sim.add_agent(format!("a{i}"), Logger { seen: seen.clone() })
-                .expect("unique")
+            let logger = Logger {
+                seen: seen.clone(),
+                planned: Arc::clone(&planned),
+            };
+            sim.add_agent(format!("a{i}"), logger).expect("unique")
         })
         .collect();
     (sim, seen, ids)
@@ -134,19 +151,63 @@ fn cancellation_and_scheduling_in_the_past() {
     let doomed = sim
         .schedule(SimTime::from_secs(5), Target::Entity(a), Ev::Mark(5))
         .expect("future");
-    sim.schedule(SimTime::from_secs(1), Target::Entity(a), Ev::Cancel(doomed))
-        .expect("future");
-    sim.schedule(SimTime::from_secs(2), Target::Entity(a), Ev::Cancel(doomed))
-        .expect("future");
     sim.schedule(SimTime::from_secs(3), Target::Entity(a), Ev::Mark(3))
         .expect("future");
+    assert!(sim.cancel(doomed));
+    assert!(!sim.cancel(doomed));
     sim.run_until(SimTime::MAX);
-    assert_eq!(strings(&seen), ["cancel:true", "cancel:false", "Mark(3)"]);
+    assert_eq!(strings(&seen), ["Mark(3)"]);
     assert!(
         sim.schedule(SimTime::from_secs(1), Target::Entity(a), Ev::Mark(0))
             .is_err()
     );
     assert!(!sim.cancel(doomed));
+}
+
+#[test]
+fn an_agent_cancels_its_own_events_only() {
+    let (mut sim, seen, ids) = log_sim(2);
+    let (a, b) = (ids[0], ids[1]);
+    // a schedules Mark(5) for itself; b, handed a's id, cannot cancel it; a can, once.
+    sim.schedule(SimTime::from_secs(1), Target::Entity(a), Ev::Plan)
+        .expect("future");
+    sim.schedule(SimTime::from_secs(2), Target::Entity(b), Ev::CancelPlanned)
+        .expect("future");
+    sim.schedule(SimTime::from_secs(3), Target::Entity(a), Ev::CancelPlanned)
+        .expect("future");
+    sim.schedule(SimTime::from_secs(4), Target::Entity(a), Ev::CancelPlanned)
+        .expect("future");
+    sim.run_until(SimTime::MAX);
+    assert_eq!(
+        strings(&seen),
+        ["plan", "cancel:false", "cancel:true", "cancel:false"]
+    );
+
+    // Not cancelled: the event fires at a.
+    let (mut sim, seen, ids) = log_sim(2);
+    sim.schedule(SimTime::from_secs(1), Target::Entity(ids[0]), Ev::Plan)
+        .expect("future");
+    sim.schedule(
+        SimTime::from_secs(2),
+        Target::Entity(ids[1]),
+        Ev::CancelPlanned,
+    )
+    .expect("future");
+    sim.run_until(SimTime::MAX);
+    let got: Vec<(EntityId, String)> = seen
+        .lock()
+        .expect("lock")
+        .iter()
+        .map(|(_, e, s)| (*e, s.clone()))
+        .collect();
+    assert_eq!(
+        got,
+        [
+            (ids[0], "plan".to_string()),
+            (ids[1], "cancel:false".to_string()),
+            (ids[0], "Mark(5)".to_string())
+        ]
+    );
 }
 
 #[test]

@@ -104,8 +104,7 @@ mod request_inform {
                                 self.rq.refuse(cx, reply, Msg::No);
                             } else {
                                 self.rq.agree(cx, reply, Msg::Ok);
-                                let me = Target::Entity(cx.me());
-                                cx.schedule_in(secs(1), me, Ev::Finish(reply, 2 * x));
+                                cx.schedule_in(secs(1), Ev::Finish(reply, 2 * x));
                             }
                             return;
                         }
@@ -749,8 +748,7 @@ mod contract_net {
                             cnet.report_failure(cx, reply, Msg::Busy);
                         } else {
                             w.working.insert(reply);
-                            let me = Target::Entity(cx.me());
-                            cx.schedule_in(w.work, me, Ev::Finish(reply, task));
+                            cx.schedule_in(w.work, Ev::Finish(reply, task));
                         }
                     }
                     Handled::Event(CnetEvent::Rejected { reply })
@@ -1086,7 +1084,7 @@ mod token_ring {
                 Input::Event(Ev::Start) => {
                     if self.ring.start(cx) {
                         self.note(cx, "created");
-                        cx.schedule_in(self.hold, Target::Entity(cx.me()), Ev::Release);
+                        cx.schedule_in(self.hold, Ev::Release);
                     } else {
                         assert_eq!(self.ring.pass(cx, Msg::Token(0)), Err(RingError::NotHolder));
                     }
@@ -1112,7 +1110,7 @@ mod token_ring {
                     };
                     self.note(cx, what);
                     if ev.holds() {
-                        cx.schedule_in(self.hold, Target::Entity(cx.me()), Ev::Release);
+                        cx.schedule_in(self.hold, Ev::Release);
                     }
                 }
             }

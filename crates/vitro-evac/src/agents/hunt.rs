@@ -14,7 +14,7 @@ use std::sync::Arc;
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
-use vitro::event::EventId;
+use vitro::event::OwnEventId;
 use vitro::sim::Context;
 use vitro::time::{SimDuration, SimTime};
 use vitro_algo::pursuit::{
@@ -102,7 +102,7 @@ impl Search {
 /// comes first replaces the other.
 #[derive(Debug, Default)]
 pub struct TurnClock {
-    pending: Option<EventId>,
+    pending: Option<OwnEventId>,
     began: SimTime,
 }
 

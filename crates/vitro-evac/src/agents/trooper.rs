@@ -3,7 +3,7 @@
 //! and — when sent after the high-value target — hunt it as a team (the first pursuer runs
 //! the search, see [`hunt`](super::hunt)).
 
-use super::hunt::{Hunt, HuntStep, LEAD_SILENT_TURNS, SILENT, TurnClock};
+use super::hunt::{Hunt, TurnClock};
 use super::squad::{self, Part, Squad, note};
 use super::{Reporter, SENSE, tell};
 use crate::act::{ActError, Board, Capture, Walk};
@@ -18,12 +18,14 @@ use vitro::time::{SimDuration, SimTime};
 use vitro_site::map::Mode;
 use vitro_tactical::actuate::troop::directed::MoveAndTurn;
 use vitro_tactical::arena::{Ev, TrackTarget};
+use vitro_tactical::behaviour::formation::{Leader, Member};
 use vitro_tactical::condition::Status;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::troop::StepCmd;
-use vitro_tactical::formation::{Leader, Member};
 use vitro_tactical::model::{Controller, Intention, Tactical};
 use vitro_tactical::radio::{Order, Radio};
+
+mod hunting;
 
 /// Timer key of the hunt's turns.
 pub(crate) const TURN: u64 = 20;
@@ -477,80 +479,6 @@ impl Trooper {
             }
         }
         cx.set_timer(self.period(), SENSE);
-    }
-
-    /// A pursuer whose hunt lead has sent no move for [`LEAD_SILENT_TURNS`] long turns
-    /// tells the truck (at most once per that time): the lead may be down unseen, or out of
-    /// radio reach.
-    fn check_lead(&mut self, cx: &mut Context<'_, Tactical>) {
-        let me = cx.me();
-        let now = cx.now();
-        if !matches!(self.task, Task::Hunt(_)) {
-            return;
-        }
-        let Some((lead, heard)) = self.lead.as_mut() else {
-            return;
-        };
-        let silent = SimDuration::from_secs_f64(LEAD_SILENT_TURNS * 2.0 * self.brief.turn_s);
-        if *lead != me && now.saturating_since(*heard) >= silent {
-            *heard = now;
-            let msg = Radio::Signal(SILENT.into(), lead.0.to_string());
-            tell(cx, self.brief.truck, msg);
-        }
-    }
-
-    /// The other pursuers (all but me) of the hunt I am on.
-    fn team_of_hunt(&self) -> Vec<EntityId> {
-        self.hunters.clone()
-    }
-
-    fn period(&self) -> SimDuration {
-        SimDuration::from_secs_f64(self.brief.sensors.period_s)
-    }
-
-    fn on_turn(&mut self, cx: &mut Context<'_, Tactical>) {
-        let alive = cx
-            .sense(&Myself)
-            .is_some_and(|(c, _)| c.status == Status::Active);
-        let Some(hunt) = self.hunt.as_mut() else {
-            return;
-        };
-        if !alive {
-            return;
-        }
-        self.clock.begin(cx);
-        match hunt.turn(cx) {
-            HuntStep::Think(delay) => {
-                cx.set_timer(delay, DECIDED);
-            }
-            HuntStep::Over => {}
-        }
-    }
-
-    fn on_decided(&mut self, cx: &mut Context<'_, Tactical>) {
-        let Some(hunt) = self.hunt.as_mut() else {
-            return;
-        };
-        let me = cx.me();
-        let orders = hunt.orders();
-        let mut mine = None;
-        for (who, node) in orders {
-            let Some(p) = self.brief.node_point(Mode::Walk, node) else {
-                continue;
-            };
-            if who == me {
-                mine = Some(node);
-            } else {
-                tell(cx, who, Radio::Order(Order::GoTo([p[0], p[1]])));
-            }
-        }
-        if let Some(node) = mine {
-            self.walk_to(node, cx);
-        }
-        // The next turn starts when the lead arrives (see on_arrived), or after a long turn
-        // at the latest (a lost arrival, an order refused).
-        let turn = SimDuration::from_secs_f64(2.0 * self.brief.turn_s);
-        self.clock.next_in(turn, TURN, cx);
     }
 }
 

@@ -120,6 +120,9 @@ pub fn on_hop(w: &mut Arena, who: EntityId, fx: &mut Effects<'_, Ev>) {
     let Some(mut trip) = w.at_node.get(who).and_then(|b| b.trip.clone()) else {
         return;
     };
+    if fx.fired().is_some() && trip.pending != fx.fired() {
+        return; // not the hop this trip waits for (stale or forged)
+    }
     let Some((node, _)) = trip.next_hop() else {
         return;
     };

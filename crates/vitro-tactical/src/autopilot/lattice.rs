@@ -54,6 +54,10 @@ impl Actuator<Arena, Ev> for Autopilot {
 
 /// The end of a maneuver: the aircraft is in its new cell; the next one starts.
 pub(crate) fn arrive(w: &mut Arena, who: EntityId, fx: &mut Effects<'_, Ev>) {
+    let fired = fx.fired();
+    if fired.is_some() && w.lattice.get(who).and_then(|b| b.pending) != fired {
+        return; // not the maneuver this aircraft waits for (stale or forged)
+    }
     let mut done = false;
     w.lattice.update(who, |b| {
         if let Some((cell, dir)) = b.moving_to.take() {

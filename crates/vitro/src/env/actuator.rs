@@ -16,12 +16,32 @@ pub struct Effects<'a, Ev> {
     pub(crate) owner: Owner,
     pub(crate) rngs: &'a mut RngStreams,
     pub(crate) sched: &'a mut dyn Schedule<Ev>,
+    pub(crate) fired: Option<EventId>,
 }
 
 impl<'a, Ev> Effects<'a, Ev> {
     /// Effects on behalf of `owner` (for tests and harnesses that drive actuators directly).
     pub fn new(owner: Owner, rngs: &'a mut RngStreams, sched: &'a mut dyn Schedule<Ev>) -> Self {
-        Effects { owner, rngs, sched }
+        Effects {
+            owner,
+            rngs,
+            sched,
+            fired: None,
+        }
+    }
+    /// Effects of the environment handling the event `fired` (for harnesses that forward the
+    /// environment's events themselves).
+    pub fn handling(mut self, fired: EventId) -> Self {
+        self.fired = Some(fired);
+        self
+    }
+    /// The environment event being handled, if this runs in the environment's event handler
+    /// (`None` for an actuator commanded by an agent).
+    ///
+    /// Handlers compare it with the id they scheduled, so a stale or forged event is ignored:
+    /// a hop of a trip that was replaced, a second tick of a clock.
+    pub fn fired(&self) -> Option<EventId> {
+        self.fired
     }
     /// The current simulated time.
     pub fn now(&self) -> SimTime {

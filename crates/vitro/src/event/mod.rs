@@ -8,6 +8,35 @@ use crate::entity::EntityId;
 use crate::time::SimTime;
 use serde::{Deserialize, Serialize};
 
+/// An event or timer an agent scheduled for itself, through its
+/// [`Context`](crate::sim::Context): the only kind of event an agent may cancel.
+///
+/// An agent cannot make one from an [`EventId`] (there is no public constructor), so the
+/// events of the environment and of other agents are out of its reach at compile time:
+///
+/// ```compile_fail,E0423
+/// use vitro::event::{EventId, OwnEventId};
+/// fn forge(id: EventId) -> OwnEventId {
+///     OwnEventId(id) // private field: does not build
+/// }
+/// ```
+///
+/// (A value read back from a snapshot is checked again when cancelled: the kernel cancels only
+/// a pending event of the calling agent's own.)
+#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub struct OwnEventId(EventId);
+
+impl OwnEventId {
+    /// Wraps the id of an event the kernel just scheduled for an agent itself.
+    pub(crate) fn new(id: EventId) -> Self {
+        OwnEventId(id)
+    }
+    /// The underlying event id (for logs and for matching a fired event).
+    pub fn id(self) -> EventId {
+        self.0
+    }
+}
+
 /// Who receives an event.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Target {

@@ -4,7 +4,7 @@
 use super::{TimerTag, conversation_id, send};
 use crate::comm::{Address, DeliveryError, Envelope, Performative, Protocol};
 use crate::entity::EntityId;
-use crate::event::EventId;
+use crate::event::OwnEventId;
 use crate::sim::{Context, Input, Model};
 use crate::time::SimDuration;
 use serde::{Deserialize, Serialize};
@@ -17,7 +17,7 @@ pub(super) struct Open {
     pub peer: EntityId,
     /// Whether the peer agreed (request only).
     pub agreed: bool,
-    timer: Option<EventId>,
+    timer: Option<OwnEventId>,
 }
 
 /// The initiator's open conversations.

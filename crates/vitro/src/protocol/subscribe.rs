@@ -22,7 +22,7 @@
 use super::{DEFAULT_MESSAGE_SIZE, Handled, Reply, TimerTag, answer, conversation_id, send};
 use crate::comm::{Address, DeliveryError, Envelope, Performative, Protocol};
 use crate::entity::EntityId;
-use crate::event::EventId;
+use crate::event::OwnEventId;
 use crate::sim::{Context, Input, Model};
 use crate::time::SimDuration;
 use serde::{Deserialize, Serialize};
@@ -92,7 +92,7 @@ pub enum SubscribeEvent<'a, Msg> {
 struct Held {
     publisher: EntityId,
     confirmed: bool,
-    timer: Option<EventId>,
+    timer: Option<OwnEventId>,
 }
 
 /// The subscribe/notify machine (both roles).

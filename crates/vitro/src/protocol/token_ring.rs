@@ -26,7 +26,7 @@
 use super::{DEFAULT_MESSAGE_SIZE, Handled, TimerTag, send};
 use crate::comm::{Address, DeliveryError, Envelope, Performative, Protocol};
 use crate::entity::EntityId;
-use crate::event::EventId;
+use crate::event::OwnEventId;
 use crate::sim::{Context, Input, Model};
 use crate::time::SimDuration;
 use serde::{Deserialize, Serialize};
@@ -107,7 +107,7 @@ pub struct TokenRing {
     holding: Option<u64>,
     /// The newest generation seen.
     newest: u64,
-    watchdog: Option<EventId>,
+    watchdog: Option<OwnEventId>,
     watch_seq: u64,
     regenerations: u64,
 }

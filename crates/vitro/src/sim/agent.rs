@@ -7,7 +7,7 @@ use super::kernel::{Kernel, Queued};
 use crate::comm::{DeliveryError, Envelope, GroupId, Network, Outgoing, Route};
 use crate::entity::{CapabilityRegister, EntityId};
 use crate::env::{Actuator, Effects, Probe, Sensor};
-use crate::event::{EventId, Schedule, ScheduleError, Target};
+use crate::event::{EventId, OwnEventId, Schedule, ScheduleError, Target};
 use crate::rng::Owner;
 use crate::time::{SimDuration, SimTime};
 use rand_chacha::ChaCha8Rng;
@@ -173,9 +173,9 @@ impl<'a, M: Model> Context<'a, M> {
         sensor: &S,
         latency: SimDuration,
         wrap: impl FnOnce(S::Reading) -> M::Event,
-    ) -> EventId {
+    ) -> OwnEventId {
         let reading = self.sense(sensor);
-        self.schedule_in(latency, Target::Entity(self.me), wrap(reading))
+        self.schedule_in(latency, wrap(reading))
     }
 
     /// Commands an actuator.
@@ -188,42 +188,114 @@ impl<'a, M: Model> Context<'a, M> {
             owner: Owner::Entity(self.me),
             rngs: &mut self.k.rngs,
             sched: &mut EventOnly(&mut self.k.queue),
+            fired: None,
         };
         actuator.actuate(self.env, self.me, cmd, &mut fx)
     }
 
-    /// Schedules `event` for `target` after `delay`.
-    pub fn schedule_in(&mut self, delay: SimDuration, target: Target, event: M::Event) -> EventId {
+    /// Schedules `event` for this agent itself after `delay`.
+    ///
+    /// An agent schedules only its own events: the environment's and other agents' are
+    /// changed through actuators and messages. There is no target to name:
+    ///
+    /// ```compile_fail,E0061
+    /// # use vitro::prelude::*;
+    /// # struct M;
+    /// # impl Model for M { type Env = (); type Event = (); type Msg = (); type Agent = A; }
+    /// # struct A;
+    /// impl Agent<M> for A {
+    ///     fn handle(&mut self, _: Input<'_, M>, cx: &mut Context<'_, M>) {
+    ///         cx.schedule_in(SimDuration::from_secs(1), Target::Env, ()); // does not build
+    ///     }
+    /// }
+    /// ```
+    ///
+    /// Its own event, the same agent otherwise, builds:
+    ///
+    /// ```
+    /// # use vitro::prelude::*;
+    /// # struct M;
+    /// # impl Model for M { type Env = (); type Event = (); type Msg = (); type Agent = A; }
+    /// # struct A;
+    /// impl Agent<M> for A {
+    ///     fn handle(&mut self, _: Input<'_, M>, cx: &mut Context<'_, M>) {
+    ///         let _mine: OwnEventId = cx.schedule_in(SimDuration::from_secs(1), ());
+    ///     }
+    /// }
+    /// ```
+    pub fn schedule_in(&mut self, delay: SimDuration, event: M::Event) -> OwnEventId {
         let at = self.now() + delay;
-        self.k
-            .schedule_at(at, target, event)
+        self.schedule_at(at, event)
             .expect("now + delay is never in the past")
     }
-    /// Schedules `event` for `target` at `at`; an error if `at` is in the past.
+    /// Schedules `event` for this agent itself at `at`; an error if `at` is in the past.
     pub fn schedule_at(
         &mut self,
         at: SimTime,
-        target: Target,
         event: M::Event,
-    ) -> Result<EventId, ScheduleError> {
-        self.k.schedule_at(at, target, event)
+    ) -> Result<OwnEventId, ScheduleError> {
+        let id = self.k.queue.push(at, Queued::Own(self.me, event))?;
+        Ok(OwnEventId::new(id))
     }
-    /// Cancels a pending event or timer; false if it already fired or was cancelled.
-    pub fn cancel(&mut self, id: EventId) -> bool {
-        self.k.queue.cancel(id)
+    /// Cancels one of this agent's own pending events or timers; false if it already fired,
+    /// was cancelled, or is not this agent's.
+    ///
+    /// Only ids this agent's scheduling returned are accepted; an [`EventId`] of the
+    /// environment's does not build:
+    ///
+    /// ```compile_fail,E0308
+    /// # use vitro::prelude::*;
+    /// # struct M;
+    /// # impl Model for M { type Env = (); type Event = vitro::event::EventId; type Msg = (); type Agent = A; }
+    /// # struct A;
+    /// impl Agent<M> for A {
+    ///     fn handle(&mut self, input: Input<'_, M>, cx: &mut Context<'_, M>) {
+    ///         if let Input::Event(id) = input {
+    ///             cx.cancel(*id); // an EventId, not an OwnEventId: does not build
+    ///         }
+    ///     }
+    /// }
+    /// ```
+    ///
+    /// An id of its own scheduling builds (and cancels, once):
+    ///
+    /// ```
+    /// # use vitro::prelude::*;
+    /// # struct M;
+    /// # impl Model for M { type Env = (); type Event = vitro::event::EventId; type Msg = (); type Agent = A; }
+    /// # struct A;
+    /// impl Agent<M> for A {
+    ///     fn handle(&mut self, input: Input<'_, M>, cx: &mut Context<'_, M>) {
+    ///         if let Input::Event(id) = input {
+    ///             let mine = cx.schedule_in(SimDuration::from_secs(1), *id);
+    ///             assert!(cx.cancel(mine));
+    ///             assert!(!cx.cancel(mine));
+    ///         }
+    ///     }
+    /// }
+    /// ```
+    pub fn cancel(&mut self, id: OwnEventId) -> bool {
+        let me = self.me;
+        let mine = matches!(
+            self.k.queue.get(id.id()),
+            Some(Queued::Own(who, _) | Queued::Timer(who, _)) if *who == me
+        );
+        mine && self.k.queue.cancel(id.id())
     }
     /// Wakes this agent with [`Input::Timer(key)`](super::Input::Timer) after `delay`.
-    pub fn set_timer(&mut self, delay: SimDuration, key: u64) -> EventId {
+    pub fn set_timer(&mut self, delay: SimDuration, key: u64) -> OwnEventId {
         let at = self.now() + delay;
-        self.k
+        let id = self
+            .k
             .queue
             .push(at, Queued::Timer(self.me, key))
-            .expect("now + delay is never in the past")
+            .expect("now + delay is never in the past");
+        OwnEventId::new(id)
     }
     /// Delivers `event` to this agent once `units` of thinking, priced by `cost`, are done:
     /// the way to make a decision take simulated time.
-    pub fn decide_after(&mut self, cost: &CostModel, units: u64, event: M::Event) -> EventId {
-        self.schedule_in(cost.cost(units), Target::Entity(self.me), event)
+    pub fn decide_after(&mut self, cost: &CostModel, units: u64, event: M::Event) -> OwnEventId {
+        self.schedule_in(cost.cost(units), event)
     }
 
     /// This agent's random stream for `purpose`.

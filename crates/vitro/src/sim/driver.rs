@@ -60,7 +60,7 @@ type Listener<M> = Box<dyn for<'a> FnMut(&Fired<'a, M>) + Send>;
 ///         if let Input::Event(&n) = input {
 ///             self.0 += 1;
 ///             if n > 0 {
-///                 cx.schedule_in(SimDuration::from_secs(1), Target::Entity(cx.me()), n - 1);
+///                 cx.schedule_in(SimDuration::from_secs(1), n - 1);
 ///             }
 ///         }
 ///     }
@@ -237,6 +237,15 @@ impl<M: Model> Simulation<M> {
                 }
                 (*target, Input::Event(ev))
             }
+            Queued::Own(who, ev) => {
+                // Traced as an event targeted at `who` (the same bits as before the split).
+                let target = Target::Entity(*who);
+                tr.write_u64(target_code(target));
+                if self.k.trace_payloads {
+                    tr.digest(ev);
+                }
+                (target, Input::Event(ev))
+            }
             Queued::Message(e) => {
                 tr.write_u64(1 << 62);
                 tr.digest(e);
@@ -270,6 +279,7 @@ impl<M: Model> Simulation<M> {
                         owner: Owner::Global,
                         rngs: &mut self.k.rngs,
                         sched: &mut EventOnly(&mut self.k.queue),
+                        fired: Some(p.id),
                     };
                     M::on_env_event(&mut self.env, ev, &mut fx);
                 }

@@ -12,7 +12,10 @@ use serde::{Deserialize, Serialize};
 /// as large as its largest variant); typed events are stored inline.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub(crate) enum Queued<E, Msg> {
+    /// Scheduled by the environment, an actuator or the harness.
     Event(Target, E),
+    /// Scheduled by an agent for itself (only it may cancel it).
+    Own(EntityId, E),
     Message(Box<Envelope<Msg>>),
     Bounce(Box<(Envelope<Msg>, DeliveryError)>),
     Timer(EntityId, u64),

@@ -65,11 +65,7 @@ impl Agent<GossipModel> for Gossip {
             Input::Event(Ev::Tick) => {
                 self.ticks += 1;
                 let delay_ms = cx.rng("tick").random_range(1..2000u64);
-                cx.schedule_in(
-                    SimDuration::from_millis(delay_ms),
-                    Target::Entity(cx.me()),
-                    Ev::Tick,
-                );
+                cx.schedule_in(SimDuration::from_millis(delay_ms), Ev::Tick);
                 let r: f64 = cx.rng("talk").random();
                 if r < 0.3 {
                     let to = cx.rng("talk").random_range(0..self.n_agents);

@@ -160,7 +160,7 @@ impl Agent<PatrolModel> for PatrolAgent {
                     // A refused move is counted by the world; the unit stays.
                     let _ = cx.act(&Drive, next.unwrap_or(here));
                 }
-                cx.schedule_in(STEP, Target::Entity(cx.me()), PatrolEvent::Step);
+                cx.schedule_in(STEP, PatrolEvent::Step);
             }
             (PatrolAgent::Convoy { schedule }, PatrolEvent::Step) => {
                 let len = schedule.len().max(1) as u64;
@@ -169,11 +169,11 @@ impl Agent<PatrolModel> for PatrolAgent {
                 if let Some(&to) = schedule.get(i) {
                     let _ = cx.act(&Drive, to);
                 }
-                cx.schedule_in(STEP, Target::Entity(cx.me()), PatrolEvent::Step);
+                cx.schedule_in(STEP, PatrolEvent::Step);
             }
             (PatrolAgent::Attacker(attacker), PatrolEvent::Look) => {
                 if attacker.look(cx) {
-                    cx.schedule_in(STEP, Target::Entity(cx.me()), PatrolEvent::Look);
+                    cx.schedule_in(STEP, PatrolEvent::Look);
                 } else {
                     cx.request_stop();
                 }

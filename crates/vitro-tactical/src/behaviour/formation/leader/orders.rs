@@ -4,9 +4,9 @@
 
 use super::state::{Route, State};
 use crate::arena::OwnPose;
+use crate::behaviour::formation::motion::{Follow, xy};
+use crate::behaviour::formation::sense::{Leg, WalkRoute};
 use crate::entity::Level;
-use crate::formation::motion::{Follow, xy};
-use crate::formation::sense::{Leg, WalkRoute};
 use crate::model::Tactical;
 use crate::radio::Radio;
 use vitro::comm::{Address, Outgoing};

@@ -49,7 +49,7 @@ impl Pattern {
     /// - wedge: `(-r s, ∓r s)`.
     ///
     /// ```
-    /// use vitro_tactical::formation::Pattern;
+    /// use vitro_tactical::behaviour::formation::Pattern;
     /// assert_eq!(Pattern::Wedge.offset(3, 5.0), [-10.0, -10.0]);
     /// assert_eq!(Pattern::Column.offset(2, 4.0), [-4.0, 2.0]);
     /// ```

@@ -1,7 +1,7 @@
 //! The leader's briefing as a member reads it: `"<pattern> <slot> <spacing> <facing|->"` or
 //! `"none"`.
 
-use crate::formation::pattern::Pattern;
+use crate::behaviour::formation::pattern::Pattern;
 
 /// What the leader told this member.
 #[derive(Copy, Clone, Debug, PartialEq)]

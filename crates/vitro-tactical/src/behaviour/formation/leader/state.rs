@@ -1,12 +1,12 @@
 //! The leader's state: its route, its pace and lag, and the rule modules it consults.
 
+use crate::behaviour::formation::FormationParams;
+use crate::behaviour::formation::ground::Ground;
+use crate::behaviour::formation::kb::Signature;
+use crate::behaviour::formation::motion::{Follow, Mover};
+use crate::behaviour::formation::pattern::{Pattern, Trail};
+use crate::behaviour::formation::record::{Arrival, Switch, TrackPoint};
 use crate::entity::Pose;
-use crate::formation::FormationParams;
-use crate::formation::ground::Ground;
-use crate::formation::kb::Signature;
-use crate::formation::motion::{Follow, Mover};
-use crate::formation::pattern::{Pattern, Trail};
-use crate::formation::record::{Arrival, Switch, TrackPoint};
 use vitro::entity::EntityId;
 use vitro::time::{SimDuration, SimTime};
 use vitro_site::geo::P2;

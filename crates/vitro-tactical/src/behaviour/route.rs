@@ -1,4 +1,4 @@
-//! Controllers: agents written against the top actuators only, so each runs unchanged at
+//! Route following: controllers written against the top actuators only, so each runs unchanged at
 //! every level of fidelity (the pattern of `vitro`'s `examples/layered.rs`).
 //!
 //! - [`VisitNodes`]: visits a list of nodes in order (once or in a loop) through any actuator

@@ -111,7 +111,7 @@
 //! use vitro::prelude::*;
 //! use vitro_tactical::arena::{Arena, Ev};
 //! use vitro_tactical::entity::Level;
-//! use vitro_tactical::formation::{FormationParams, LEADER_PROGRAM, Leader, Member, Script};
+//! use vitro_tactical::behaviour::formation::{FormationParams, LEADER_PROGRAM, Leader, Member, Script};
 //! use vitro_tactical::model::Tactical;
 //! use vitro_tactical::radio::{Order, Radio};
 //! use vitro_tactical::types::TroopKind;
@@ -180,9 +180,9 @@ use vitro::time::SimDuration;
 use vitro_algo::rules::RuleError;
 
 /// The leader's rule program (`data/rules/formation/leader.jz`).
-pub const LEADER_PROGRAM: &str = include_str!("../../../../data/rules/formation/leader.jz");
+pub const LEADER_PROGRAM: &str = include_str!("../../../../../data/rules/formation/leader.jz");
 /// The members' rule program (`data/rules/formation/member.jz`).
-pub const MEMBER_PROGRAM: &str = include_str!("../../../../data/rules/formation/member.jz");
+pub const MEMBER_PROGRAM: &str = include_str!("../../../../../data/rules/formation/member.jz");
 
 /// Why a formation controller could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

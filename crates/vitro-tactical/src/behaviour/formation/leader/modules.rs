@@ -2,11 +2,11 @@
 //! queries and updates are listed in `data/rules/formation/leader.jz`).
 
 use super::state::{EYES, Lag, MODULES, Pace, ROUTE, SQUAD, State};
+use crate::behaviour::formation::kb::{self, answers, atom, fact};
+use crate::behaviour::formation::motion::xy;
+use crate::behaviour::formation::pattern::Pattern;
+use crate::behaviour::formation::record::{Arrival, Switch};
 use crate::entity::Level;
-use crate::formation::kb::{self, answers, atom, fact};
-use crate::formation::motion::xy;
-use crate::formation::pattern::Pattern;
-use crate::formation::record::{Arrival, Switch};
 use crate::model::Tactical;
 use crate::radio::Radio;
 use vitro::comm::{Address, Outgoing};
