@@ -21,3 +21,19 @@ pub mod environment {}
 /// The radio (`docs/guide/src/radio.md`).
 #[doc = include_str!("../../../docs/guide/src/radio.md")]
 pub mod radio {}
+
+/// Tutorial part 1: a controller on a synthetic graph (`docs/guide/src/tutorial-1-graph.md`).
+#[doc = include_str!("../../../docs/guide/src/tutorial-1-graph.md")]
+pub mod tutorial_1_graph {}
+
+/// Tutorial part 2: the town at three levels (`docs/guide/src/tutorial-2-town.md`).
+#[doc = include_str!("../../../docs/guide/src/tutorial-2-town.md")]
+pub mod tutorial_2_town {}
+
+/// Tutorial part 3: a property and the cross-level check (`docs/guide/src/tutorial-3-check.md`).
+#[doc = include_str!("../../../docs/guide/src/tutorial-3-check.md")]
+pub mod tutorial_3_check {}
+
+/// Tutorial part 4: a batch experiment and a plot (`docs/guide/src/tutorial-4-batch.md`).
+#[doc = include_str!("../../../docs/guide/src/tutorial-4-batch.md")]
+pub mod tutorial_4_batch {}
