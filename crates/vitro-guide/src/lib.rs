@@ -5,7 +5,6 @@
 //! `cargo test -p vitro-guide --doc` compiles and runs every Rust block of every page: the
 //! guide cannot drift from the code it teaches. The crate has no code of its own.
 
-
 /// Introduction (`docs/guide/src/introduction.md`).
 #[doc = include_str!("../../../docs/guide/src/introduction.md")]
 pub mod introduction {}
@@ -37,3 +36,19 @@ pub mod tutorial_3_check {}
 /// Tutorial part 4: a batch experiment and a plot (`docs/guide/src/tutorial-4-batch.md`).
 #[doc = include_str!("../../../docs/guide/src/tutorial-4-batch.md")]
 pub mod tutorial_4_batch {}
+
+/// Scenarios (`docs/guide/src/scenarios.md`).
+#[doc = include_str!("../../../docs/guide/src/scenarios.md")]
+pub mod scenarios {}
+
+/// Experiments (`docs/guide/src/experiments.md`).
+#[doc = include_str!("../../../docs/guide/src/experiments.md")]
+pub mod experiments {}
+
+/// Recordings and the viewer (`docs/guide/src/recordings.md`).
+#[doc = include_str!("../../../docs/guide/src/recordings.md")]
+pub mod recordings {}
+
+/// Writing your own mission (`docs/guide/src/missions.md`).
+#[doc = include_str!("../../../docs/guide/src/missions.md")]
+pub mod missions {}
