@@ -14,6 +14,75 @@
 //!
 //! A mission (the evacuation in `vitro-evac`) is an application of this crate: its agents,
 //! its briefing and its referee live in a crate of their own.
+//!
+//! ## One controller, three levels
+//!
+//! A controller is written against a *top* actuator: for a ground vehicle, `GoToNode`
+//! (command: a node; answer: [`arena::Ev::Arrived`]). Each level of the vehicle has its own
+//! `GoToNode` over its own storage: [`actuate::ground::discrete`] schedules hops along the
+//! route, [`actuate::ground::interpolated`] moves a point on the ground mesh every 0.1 s,
+//! [`actuate::ground::physical`] steers a rigid body with engine and brakes. The generic
+//! [`mission::VisitNodes`] controller below drives across the town at all three, unchanged;
+//! only the level the body is placed at and the actuator it is given differ.
+//!
+//! ```
+//! use vitro::prelude::*;
+//! use vitro_tactical::actuate::MoveError;
+//! use vitro_tactical::actuate::ground::{discrete, interpolated, physical};
+//! use vitro_tactical::arena::{Arena, Ev};
+//! use vitro_tactical::check::Setup;
+//! use vitro_tactical::entity::Level;
+//! use vitro_tactical::entity::route::Track;
+//! use vitro_tactical::mission::VisitNodes;
+//! use vitro_tactical::model::Tactical;
+//! use vitro_tactical::types::GroundKind;
+//!
+//! // The town (Kotka, OpenStreetMap) on its terrain, with its street graphs and the
+//! // entity types' parameters.
+//! let setup = Setup::default_town().unwrap();
+//! let drive = &setup.roads.drive;
+//! let (from, to) = (drive.nearest_connected([-150.0, -100.0]).unwrap(),
+//!                   drive.nearest_connected([150.0, 100.0]).unwrap());
+//!
+//! /// When a car placed at `level` and driven through `goto` reaches `to`, seconds.
+//! fn arrival<A>(setup: &Setup, level: Level, goto: A, from: NodeId, to: NodeId) -> f64
+//! where
+//!     A: Actuator<Arena, Ev, Command = NodeId, Error = MoveError> + 'static,
+//! {
+//!     // Facing down the first street (a rigid body does not turn on the spot).
+//!     let path = setup.roads.drive.path(from, to).unwrap();
+//!     let ty = setup.types.ground(GroundKind::Car);
+//!     let track = Track::plan_vehicle(&setup.site, &setup.roads.drive, &path, ty, &setup.types.speed_limits);
+//!     let heading = track.unwrap().heading_at(0.0);
+//!     let mut sim = Simulation::<Tactical>::new(setup.arena(), setup.seed);
+//!     let car = sim.add_agent("car", Box::new(VisitNodes::new(vec![to], goto))).unwrap();
+//!     // The body: a row in the storage of `level`.
+//!     sim.env_mut().add_vehicle(car, GroundKind::Car, level, from, heading).unwrap();
+//!     sim.schedule(SimTime::ZERO, Target::Entity(car), Ev::Start).unwrap();
+//!     sim.run_until(SimTime::from_secs(1200));
+//!     let brain = sim.agent(car).and_then(|c| c.as_any().downcast_ref::<VisitNodes<A>>());
+//!     brain.and_then(|v| v.log.last()).map(|&(t, _)| t.as_secs_f64()).unwrap()
+//! }
+//!
+//! let d = arrival(&setup, Level::Discrete, discrete::GoToNode, from, to);
+//! let i = arrival(&setup, Level::Interpolated, interpolated::GoToNode, from, to);
+//! let p = arrival(&setup, Level::Physical, physical::GoToNode, from, to);
+//! // The discrete level's time is the estimate the others are held to (check::property).
+//! assert!((i - d).abs() <= 0.02 * d + 2.0, "{i} vs {d}");
+//! assert!((p - d).abs() <= 0.12 * d + 5.0, "{p} vs {d}");
+//! ```
+//!
+//! ## Where next
+//!
+//! - Write a controller: implement [`model::Controller`] (sense with `cx.sense`, e.g.
+//!   [`arena::OwnPose`]; act with `cx.act` through a top actuator or an [`autopilot`]);
+//!   [`mission::VisitNodes`] and [`mission::FlightMission`] are the two generic ones.
+//! - Hold it to properties at every level: [`check`] ([`check::Scenario`],
+//!   [`check::Property`], [`check::Registry`]); `vitro check levels` runs the standard ones.
+//! - Put it in a mission: the shared scenario tables of [`scenario`], the radio vocabulary of
+//!   [`radio`], and the `vitro-mission` traits.
+//! - The guide (`docs/guide`) walks through all of it, from a synthetic graph to a batch
+//!   experiment.
 
 pub mod actuate;
 pub mod arena;

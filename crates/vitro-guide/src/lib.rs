@@ -1,0 +1,54 @@
+//! # The Vitro guide, tested
+//!
+//! The guide lives in `docs/guide` as an mdBook (`mdbook build docs/guide`). This crate
+//! includes every page as the documentation of one module, so that
+//! `cargo test -p vitro-guide --doc` compiles and runs every Rust block of every page: the
+//! guide cannot drift from the code it teaches. The crate has no code of its own.
+
+/// Introduction (`docs/guide/src/introduction.md`).
+#[doc = include_str!("../../../docs/guide/src/introduction.md")]
+pub mod introduction {}
+
+/// Time, events and determinism (`docs/guide/src/events.md`).
+#[doc = include_str!("../../../docs/guide/src/events.md")]
+pub mod events {}
+
+/// Storages, sensors and actuators (`docs/guide/src/environment.md`).
+#[doc = include_str!("../../../docs/guide/src/environment.md")]
+pub mod environment {}
+
+/// The radio (`docs/guide/src/radio.md`).
+#[doc = include_str!("../../../docs/guide/src/radio.md")]
+pub mod radio {}
+
+/// Tutorial part 1: a controller on a synthetic graph (`docs/guide/src/tutorial-1-graph.md`).
+#[doc = include_str!("../../../docs/guide/src/tutorial-1-graph.md")]
+pub mod tutorial_1_graph {}
+
+/// Tutorial part 2: the town at three levels (`docs/guide/src/tutorial-2-town.md`).
+#[doc = include_str!("../../../docs/guide/src/tutorial-2-town.md")]
+pub mod tutorial_2_town {}
+
+/// Tutorial part 3: a property and the cross-level check (`docs/guide/src/tutorial-3-check.md`).
+#[doc = include_str!("../../../docs/guide/src/tutorial-3-check.md")]
+pub mod tutorial_3_check {}
+
+/// Tutorial part 4: a batch experiment and a plot (`docs/guide/src/tutorial-4-batch.md`).
+#[doc = include_str!("../../../docs/guide/src/tutorial-4-batch.md")]
+pub mod tutorial_4_batch {}
+
+/// Scenarios (`docs/guide/src/scenarios.md`).
+#[doc = include_str!("../../../docs/guide/src/scenarios.md")]
+pub mod scenarios {}
+
+/// Experiments (`docs/guide/src/experiments.md`).
+#[doc = include_str!("../../../docs/guide/src/experiments.md")]
+pub mod experiments {}
+
+/// Recordings and the viewer (`docs/guide/src/recordings.md`).
+#[doc = include_str!("../../../docs/guide/src/recordings.md")]
+pub mod recordings {}
+
+/// Writing your own mission (`docs/guide/src/missions.md`).
+#[doc = include_str!("../../../docs/guide/src/missions.md")]
+pub mod missions {}
