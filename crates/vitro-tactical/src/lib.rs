@@ -33,7 +33,7 @@
 //! use vitro_tactical::check::Setup;
 //! use vitro_tactical::entity::Level;
 //! use vitro_tactical::entity::route::Track;
-//! use vitro_tactical::mission::VisitNodes;
+//! use vitro_tactical::behaviour::route::VisitNodes;
 //! use vitro_tactical::model::Tactical;
 //! use vitro_tactical::types::GroundKind;
 //!
