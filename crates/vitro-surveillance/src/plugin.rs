@@ -146,6 +146,10 @@ fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
             m.mean_time_to_detection_s.into(),
         ),
         ("max_time_to_detection_s", m.max_time_to_detection_s.into()),
+        (
+            "restricted_time_to_detection_s",
+            Metric::Float(m.restricted_time_to_detection_s),
+        ),
         ("mean_tracked_share", Metric::Float(m.mean_tracked_share)),
         ("min_tracked_share", Metric::Float(m.min_tracked_share)),
         ("messages_sent", c(m.messages_sent)),

@@ -3,7 +3,8 @@
 //! (each UAV's lock spans, the station's counts), read after the fact.
 //!
 //! - **time to first detection** of a red unit: when a UAV's tracker first took a lock on
-//!   it (its own camera identified it as red);
+//!   it (its own camera identified it as red); its mean over the units detected, and its
+//!   restricted mean over all units (an undetected one counted at the time run);
 //! - **tracked share**: the share of the run during which some UAV held a lock on it (the
 //!   union of every UAV's lock spans, each ended at the UAV's loss);
 //! - messages sent and lost on the radio, contract-net messages, calls, awards, failed
@@ -43,6 +44,10 @@ pub struct Metrics {
     pub mean_time_to_detection_s: Option<f64>,
     /// Longest time to first detection, seconds.
     pub max_time_to_detection_s: Option<f64>,
+    /// Mean time to first detection over every red unit, an undetected one counted at the
+    /// time run (a restricted mean: comparable between runs that detect more or fewer),
+    /// seconds.
+    pub restricted_time_to_detection_s: f64,
     /// Mean share of the run each red unit was tracked.
     pub mean_tracked_share: f64,
     /// Smallest share of the run a red unit was tracked.
@@ -134,11 +139,13 @@ pub fn measure(
     }
     let mut delays = Vec::new();
     let mut shares = Vec::new();
+    let mut restricted = 0.0;
     for mem in members.iter().filter(|x| x.is_red()) {
         let first_s = first.get(&mem.id).copied().filter(|t| t.is_finite());
         let tracked_s = union_length(spans.remove(&mem.id).unwrap_or_default());
         let share = if now_s > 0.0 { tracked_s / now_s } else { 0.0 };
         delays.extend(first_s);
+        restricted += first_s.unwrap_or(now_s);
         shares.push(share);
         m.red.insert(
             mem.name.clone(),
@@ -156,6 +163,7 @@ pub fn measure(
         m.max_time_to_detection_s = delays.iter().copied().reduce(f64::max);
     }
     if !shares.is_empty() {
+        m.restricted_time_to_detection_s = restricted / shares.len() as f64;
         m.mean_tracked_share = shares.iter().sum::<f64>() / shares.len() as f64;
         m.min_tracked_share = shares.iter().copied().fold(f64::INFINITY, f64::min);
     }

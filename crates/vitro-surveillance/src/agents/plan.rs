@@ -16,7 +16,7 @@ pub fn above(brief: &TeamBrief, frame: &Airframe, p: [f64; 2]) -> [f64; 3] {
 }
 
 /// The search route from town point `from`: the sectors held in tour order, each swept
-/// from its nearest corner; the whole operation area when it holds none.
+/// from its corner nearest the way in; the whole operation area when it holds none.
 pub fn search_route(
     brief: &TeamBrief,
     frame: &Airframe,

@@ -158,7 +158,18 @@ impl Uav {
         self.mode = Mode::Search;
         self.watching = None;
         let Some(here) = self.here(cx) else { return };
-        let route = search_route(&self.brief, &self.frame, &self.sectors, here);
+        // Without sectors it searches the whole area, entering it at the corner its place
+        // in the roster gives it (so that UAVs cut off from the station spread out).
+        let from = if self.sectors.is_empty() {
+            let a = self.brief.area;
+            let k = (self.brief.team.iter())
+                .position(|&u| u == cx.me())
+                .unwrap_or(0);
+            [[a[0], a[1]], [a[2], a[3]], [a[2], a[1]], [a[0], a[3]]][k % 4]
+        } else {
+            here
+        };
+        let route = search_route(&self.brief, &self.frame, &self.sectors, from);
         self.fly(route, cx);
     }
 
