@@ -3,7 +3,7 @@
 //!
 //! | agent | briefed with |
 //! |---|---|
-//! | UAV | the map (town and terrain), the operation area and the track spacing (for its own search when it holds no sector, entered at a corner set by its place in the roster), the team roster and the station's id, its own type, level, altitude and cruise speed, its camera and tracking settings, the radio discipline and the contract net's deadlines |
+//! | UAV | the map (town and terrain), the operation area and the track spacing (for its own search when it holds no sector, entered at a corner set by its place in the roster), the team roster and the station's id, its own type, level, altitude and cruise speed, its camera and tracking settings, the radio discipline (and how far it goes to look for a target a teammate reported) and the contract net's deadlines |
 //! | station | the team roster, the sectors of the operation area, the timetable of the areas it will be tasked with (their sectors come with the tasking), the radio discipline and the contract net's deadlines |
 //! | red unit | the map (its street graph), how far it goes and how long it pauses |
 //!

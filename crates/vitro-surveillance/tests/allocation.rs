@@ -140,3 +140,30 @@ fn a_tasked_area_is_cut_into_sectors_and_awarded() {
     );
     assert!(st.sectors.values().all(|s| s.holder.is_some()));
 }
+
+#[test]
+fn random_failures_come_from_the_seed_and_are_noticed() {
+    let failing = |seed| {
+        let mut t = scenario();
+        t.remove("loss");
+        set(&mut t, "failures.rate_per_h", Value::Float(4.0));
+        set(&mut t, "end.time_s", Value::Float(900.0));
+        let mut op = build(&t, seed);
+        op.run();
+        op
+    };
+    let (a, b) = (failing(21), failing(21));
+    assert_eq!(a.lost, b.lost, "the same failures for the same seed");
+    assert!(
+        !a.lost.is_empty(),
+        "about 63 % of the UAVs fail within 15 min at 4 per hour"
+    );
+    assert_ne!(a.lost, failing(22).lost);
+    // Every UAV that failed more than `lost_after_s` before the end was presumed lost.
+    let st = station(&a);
+    for (id, t) in &a.lost {
+        if t.as_secs_f64() < 900.0 - 40.0 {
+            assert!(st.presumed_lost.contains(id), "{id:?} lost at {t:?}");
+        }
+    }
+}
