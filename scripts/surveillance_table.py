@@ -54,17 +54,18 @@ def main(path):
             points[(int(row["entity.0.count"]), float(row["channel.loss"]))].append(row)
     print("| UAVs | radio loss | runs | mean time to first detection, s (detected units; n runs) "
           "| restricted mean time to detection, s | mean tracked share | red units detected (of 8) "
-          "| calls failed | re-allocations | UAVs presumed lost |")
-    print("|---:|---:|---:|---|---|---|---|---|---|---|")
+          "| calls failed | re-allocations | of them handovers | UAVs presumed lost |")
+    print("|---:|---:|---:|---|---|---|---|---|---|---|---|")
     for (uavs, loss), rows in sorted(points.items()):
         cell = {k: mean_ci([number(r, k) for r in rows]) for k in (
             "mean_time_to_detection_s", "restricted_time_to_detection_s", "mean_tracked_share",
-            "red_detected", "calls_failed", "reallocations", "presumed_lost")}
+            "red_detected", "calls_failed", "reallocations", "handovers", "presumed_lost")}
         t = cell["mean_time_to_detection_s"]
         fmt = lambda k, d: f"{cell[k][0]:.{d}f} ± {cell[k][1]:.{d}f}"
         print(f"| {uavs} | {loss:.1f} | {len(rows)} | {t[0]:.0f} ± {t[1]:.0f} (n={t[2]}) "
               f"| {fmt('restricted_time_to_detection_s', 0)} | {fmt('mean_tracked_share', 3)} "
               f"| {fmt('red_detected', 2)} | {fmt('calls_failed', 1)} | {fmt('reallocations', 1)} "
+              f"| {fmt('handovers', 1)} "
               f"| {fmt('presumed_lost', 2)} |")
 
 

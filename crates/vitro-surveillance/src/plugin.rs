@@ -159,6 +159,7 @@ fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
         ("awards", c(m.awards)),
         ("calls_failed", c(m.calls_failed)),
         ("reallocations", c(m.reallocations)),
+        ("handovers", c(m.handovers)),
         ("revocations", c(m.revocations)),
         ("uavs", c(u64::from(m.uavs))),
         ("uavs_lost", c(u64::from(m.uavs_lost))),
@@ -246,11 +247,12 @@ impl Run for Operation {
             (
                 "allocation".into(),
                 format!(
-                    "{} calls, {} awards, {} failed, {} re-allocations, {} revocations; {}/{} sectors held",
+                    "{} calls, {} awards, {} failed, {} re-allocations ({} to another UAV), {} revocations; {}/{} sectors held",
                     m.calls,
                     m.awards,
                     m.calls_failed,
                     m.reallocations,
+                    m.handovers,
                     m.revocations,
                     m.sectors_held,
                     m.sectors

@@ -8,8 +8,8 @@
 //! - **tracked share**: the share of the run during which some UAV held a lock on it (the
 //!   union of every UAV's lock spans, each ended at the UAV's loss);
 //! - messages sent and lost on the radio, contract-net messages, calls, awards, failed
-//!   calls, re-allocations (calls for sectors awarded before), revocations, UAVs lost and
-//!   presumed lost.
+//!   calls, re-allocations (calls for sectors awarded before) and handovers (awards of a
+//!   sector to another UAV than its last winner), revocations, UAVs lost and presumed lost.
 
 use crate::agents::station::Station;
 use crate::agents::uav::Uav;
@@ -66,6 +66,8 @@ pub struct Metrics {
     pub calls_failed: u64,
     /// Calls for sectors awarded before.
     pub reallocations: u64,
+    /// Awards of a sector to another UAV than its last winner.
+    pub handovers: u64,
     /// Revocations the station sent.
     pub revocations: u64,
     /// UAVs in the run.
@@ -133,6 +135,7 @@ pub fn measure(
             (m.calls, m.awards, m.calls_failed) = (s.calls, s.awards, s.failed);
             (m.reallocations, m.revocations, m.presumed_lost) =
                 (s.reallocations, s.revocations, s.presumed_lost);
+            m.handovers = s.handovers;
             m.sectors = st.sectors.len() as u32;
             m.sectors_held = st.sectors.values().filter(|x| x.holder.is_some()).count() as u32;
         }

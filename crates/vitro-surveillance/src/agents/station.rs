@@ -45,6 +45,8 @@ pub struct SectorState {
     pub confirmed: Option<SimTime>,
     /// Whether it was ever awarded (a later call is a re-allocation).
     pub awarded_before: bool,
+    /// The UAV it was last awarded to.
+    pub last_winner: Option<EntityId>,
 }
 
 /// What the station counts.
@@ -58,6 +60,8 @@ pub struct StationStats {
     pub failed: u64,
     /// Calls for sectors that had been awarded before.
     pub reallocations: u64,
+    /// Awards of a sector to another UAV than the one it was last awarded to.
+    pub handovers: u64,
     /// Times a UAV was presumed lost (rightly or not).
     pub presumed_lost: u64,
     /// Revocations sent.
@@ -109,6 +113,7 @@ impl Station {
                     holder: None,
                     confirmed: None,
                     awarded_before: false,
+                    last_winner: None,
                 },
             );
             self.queue.push_back(s.id);
@@ -172,6 +177,10 @@ impl Station {
             } => {
                 let s = task as u32;
                 if let Some(state) = self.sectors.get_mut(&s) {
+                    if state.last_winner.is_some_and(|w| w != winner) {
+                        self.stats.handovers += 1;
+                    }
+                    state.last_winner = Some(winner);
                     state.holder = Some(winner);
                     state.confirmed = None;
                     state.awarded_before = true;
