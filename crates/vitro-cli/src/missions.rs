@@ -9,8 +9,13 @@ use vitro_mission::{MissionError, Registry, RegistryError};
 /// The registry of the missions `vitro` runs.
 pub(crate) fn registry() -> &'static Registry {
     static REGISTRY: OnceLock<Registry> = OnceLock::new();
-    REGISTRY
-        .get_or_init(|| Registry::new(vec![&vitro_evac::Evacuation, &vitro_demo::PatrollingCars]))
+    REGISTRY.get_or_init(|| {
+        Registry::new(vec![
+            &vitro_evac::Evacuation,
+            &vitro_demo::PatrollingCars,
+            &vitro_surveillance::Surveillance,
+        ])
+    })
 }
 
 /// A registry error about the scenario at `path` as a failure: bad input (exit 2) or a run

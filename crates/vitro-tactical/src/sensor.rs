@@ -1,8 +1,12 @@
-//! Sensors over the tactical [`World`]: GPS, proximity vision, friend-or-foe vision.
+//! Sensors over the tactical [`World`]: GPS, proximity vision, friend-or-foe vision; and
+//! [`track`]ing, a lock held only while the owner's own friend-or-foe vision detects the
+//! target.
 //!
 //! Randomness comes from the sensing entity's own streams (`probe.rng(..)`): `"gps"` for GPS
 //! noise, `"fof"` for detection and identification draws. Candidates are examined in entity-id
 //! order, so a reading depends only on the world and the stream, never on a hasher.
+
+pub mod track;
 
 use crate::world::{Body, Side, World};
 use rand::Rng;
