@@ -1,89 +1,18 @@
-//! The mission's actuators: movement at whatever level each entity type was given (one
-//! actuator per family that dispatches on the level), and the mission's own acts — boarding
+//! The mission's actuators: movement at whatever level each entity type was given (the
+//! tactical environment's level-dispatching top actuators, re-exported), and the mission's own acts — boarding
 //! and leaving the truck, firing, capturing, showing up, being extracted. Each writes the
 //! arena's bodies or [`conditions`](vitro_tactical::arena::Arena::conditions); agents reach them only
 //! through their `Context`.
 
 use rand::Rng;
 use vitro::entity::EntityId;
-use vitro::env::{Actuator, Effects, NodeId};
+use vitro::env::{Actuator, Effects};
 use vitro_site::map::Mode;
-use vitro_tactical::actuate::{MoveError, ground, troop};
+pub use vitro_tactical::actuate::by_level::{Drive, Pilot, Walk};
 use vitro_tactical::arena::{Arena, Ev};
-use vitro_tactical::autopilot::{self, FlyError};
 use vitro_tactical::condition::Status;
 use vitro_tactical::entity::Level;
-use vitro_tactical::entity::air::FlightCommand;
 use vitro_tactical::types::TroopKind;
-
-/// GoToNode for a ground vehicle at its level.
-#[derive(Copy, Clone, Debug)]
-pub struct Drive(pub Level);
-
-impl Actuator<Arena, Ev> for Drive {
-    type Command = NodeId;
-    type Error = MoveError;
-    fn actuate(
-        &self,
-        w: &mut Arena,
-        me: EntityId,
-        goal: NodeId,
-        fx: &mut Effects<'_, Ev>,
-    ) -> Result<(), MoveError> {
-        match self.0 {
-            Level::Interpolated => ground::interpolated::GoToNode.actuate(w, me, goal, fx),
-            Level::Physical => ground::physical::GoToNode.actuate(w, me, goal, fx),
-            _ => ground::discrete::GoToNode.actuate(w, me, goal, fx),
-        }
-    }
-}
-
-/// WalkToNode for a person on foot at its level.
-#[derive(Copy, Clone, Debug)]
-pub struct Walk(pub Level);
-
-impl Actuator<Arena, Ev> for Walk {
-    type Command = NodeId;
-    type Error = MoveError;
-    fn actuate(
-        &self,
-        w: &mut Arena,
-        me: EntityId,
-        goal: NodeId,
-        fx: &mut Effects<'_, Ev>,
-    ) -> Result<(), MoveError> {
-        match self.0 {
-            Level::Directed => troop::directed::WalkToNode.actuate(w, me, goal, fx),
-            _ => troop::discrete::WalkToNode.actuate(w, me, goal, fx),
-        }
-    }
-}
-
-/// The autopilot of an aircraft at its level (`helicopter` picks the rotorcraft autopilot
-/// at the continuous level).
-#[derive(Copy, Clone, Debug)]
-pub struct Pilot {
-    /// The aircraft's level.
-    pub level: Level,
-}
-
-impl Actuator<Arena, Ev> for Pilot {
-    type Command = FlightCommand;
-    type Error = FlyError;
-    fn actuate(
-        &self,
-        w: &mut Arena,
-        me: EntityId,
-        cmd: FlightCommand,
-        fx: &mut Effects<'_, Ev>,
-    ) -> Result<(), FlyError> {
-        match self.level {
-            Level::Kinematic => autopilot::ctol::Autopilot.actuate(w, me, cmd, fx),
-            Level::Dynamic => autopilot::vtol::Autopilot.actuate(w, me, cmd, fx),
-            _ => autopilot::lattice::Autopilot.actuate(w, me, cmd, fx),
-        }
-    }
-}
 
 /// Why a mission act was refused.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

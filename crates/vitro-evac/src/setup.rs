@@ -330,7 +330,7 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, MissionError> {
                     _ => AirRole::Scout,
                 };
                 let height = m.altitude.unwrap_or(100.0);
-                let pilot = Pilot { level: m.level };
+                let pilot = Pilot(m.level);
                 let unit = skeldars.iter().position(|&id| id == m.id);
                 match (role, &patrol, unit) {
                     (AirRole::Cover { slot }, _, _) => {

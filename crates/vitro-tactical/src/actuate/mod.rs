@@ -14,6 +14,7 @@
 //! the route's speed profile gives; at the continuous levels the top actuator drives the
 //! lower ones at every fixed step ([`tick_kinematic`], [`tick_physics`]).
 
+pub mod by_level;
 pub mod ground;
 mod trip;
 pub mod troop;

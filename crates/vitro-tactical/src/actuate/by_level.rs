@@ -1,0 +1,86 @@
+//! Top actuators at a chosen level: one per family, each handing the command to that level's
+//! own actuator or autopilot, so a mission gives every entity the level its scenario names
+//! and its controllers stay level-blind.
+//!
+//! ```
+//! use vitro_tactical::actuate::by_level::{Drive, Pilot, Walk};
+//! use vitro_tactical::entity::Level;
+//! // A truck driven at the physical level, a trooper walking directed, a UAV on its lattice.
+//! let (truck, trooper, uav) = (Drive(Level::Physical), Walk(Level::Directed), Pilot(Level::Discrete));
+//! assert_eq!(truck.0, Level::Physical);
+//! # let _ = (trooper, uav);
+//! ```
+
+use crate::actuate::{MoveError, ground, troop};
+use crate::arena::{Arena, Ev};
+use crate::autopilot::{self, FlyError};
+use crate::entity::Level;
+use crate::entity::air::FlightCommand;
+use vitro::entity::EntityId;
+use vitro::env::{Actuator, Effects, NodeId};
+
+/// GoToNode for a ground vehicle at its level.
+#[derive(Copy, Clone, Debug)]
+pub struct Drive(pub Level);
+
+impl Actuator<Arena, Ev> for Drive {
+    type Command = NodeId;
+    type Error = MoveError;
+    fn actuate(
+        &self,
+        w: &mut Arena,
+        me: EntityId,
+        goal: NodeId,
+        fx: &mut Effects<'_, Ev>,
+    ) -> Result<(), MoveError> {
+        match self.0 {
+            Level::Interpolated => ground::interpolated::GoToNode.actuate(w, me, goal, fx),
+            Level::Physical => ground::physical::GoToNode.actuate(w, me, goal, fx),
+            _ => ground::discrete::GoToNode.actuate(w, me, goal, fx),
+        }
+    }
+}
+
+/// WalkToNode for a person on foot at its level.
+#[derive(Copy, Clone, Debug)]
+pub struct Walk(pub Level);
+
+impl Actuator<Arena, Ev> for Walk {
+    type Command = NodeId;
+    type Error = MoveError;
+    fn actuate(
+        &self,
+        w: &mut Arena,
+        me: EntityId,
+        goal: NodeId,
+        fx: &mut Effects<'_, Ev>,
+    ) -> Result<(), MoveError> {
+        match self.0 {
+            Level::Directed => troop::directed::WalkToNode.actuate(w, me, goal, fx),
+            _ => troop::discrete::WalkToNode.actuate(w, me, goal, fx),
+        }
+    }
+}
+
+/// The autopilot of an aircraft at its level: the lattice at the discrete level, the
+/// fixed-wing kinematic autopilot, or the helicopter's rotor-dynamics autopilot.
+#[derive(Copy, Clone, Debug)]
+pub struct Pilot(pub Level);
+
+impl Actuator<Arena, Ev> for Pilot {
+    type Command = FlightCommand;
+    type Error = FlyError;
+    fn actuate(
+        &self,
+        w: &mut Arena,
+        me: EntityId,
+        cmd: FlightCommand,
+        fx: &mut Effects<'_, Ev>,
+    ) -> Result<(), FlyError> {
+        match self.0 {
+            Level::Kinematic => autopilot::ctol::Autopilot.actuate(w, me, cmd, fx),
+            Level::Dynamic => autopilot::vtol::Autopilot.actuate(w, me, cmd, fx),
+            _ => autopilot::lattice::Autopilot.actuate(w, me, cmd, fx),
+        }
+    }
+}
