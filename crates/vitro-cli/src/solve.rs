@@ -20,7 +20,7 @@ pub(crate) enum SolveCommand {
 
 #[derive(Debug, Args)]
 pub(crate) struct PatrolArgs {
-    /// The instance (TOML: [graph], [[target]], [[patroller]]).
+    /// The instance (TOML: `[graph]`, `[[target]]`, `[[patroller]]`).
     instance: PathBuf,
     /// Prints one JSON object on stdout.
     #[arg(long)]

@@ -22,7 +22,7 @@
 //! `GoToNode` over its own storage: [`actuate::ground::discrete`] schedules hops along the
 //! route, [`actuate::ground::interpolated`] moves a point on the ground mesh every 0.1 s,
 //! [`actuate::ground::physical`] steers a rigid body with engine and brakes. The generic
-//! [`mission::VisitNodes`] controller below drives across the town at all three, unchanged;
+//! [`behaviour::route::VisitNodes`] controller below drives across the town at all three, unchanged;
 //! only the level the body is placed at and the actuator it is given differ.
 //!
 //! ```
@@ -76,7 +76,7 @@
 //!
 //! - Write a controller: implement [`model::Controller`] (sense with `cx.sense`, e.g.
 //!   [`arena::OwnPose`]; act with `cx.act` through a top actuator or an [`autopilot`]);
-//!   [`mission::VisitNodes`] and [`mission::FlightMission`] are the two generic ones.
+//!   [`behaviour::route::VisitNodes`] and [`behaviour::route::FlightMission`] are the two generic ones.
 //! - Hold it to properties at every level: [`check`] ([`check::Scenario`],
 //!   [`check::Property`], [`check::Registry`]); `vitro check levels` runs the standard ones.
 //! - Put it in a mission: the shared scenario tables of [`scenario`], the radio vocabulary of

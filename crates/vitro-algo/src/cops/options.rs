@@ -29,7 +29,7 @@ pub enum CopsError {
     Graph(#[from] GraphError),
 }
 
-/// Limits and switches for [`cop_number`] and [`CopsGame::solve`].
+/// Limits and switches for [`cop_number`](crate::cops::cop_number) and [`CopsGame::solve`](crate::cops::CopsGame::solve).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct CopOptions {
     /// The most positions (cop multiset × robber vertex × turn) one game table may hold; about

@@ -31,7 +31,7 @@ impl Default for MonteCarloOptions {
 /// The estimated outcome of one attack option.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct AttackEstimate {
-    /// Index of the target in [`Instance::targets`].
+    /// Index of the target in [`Instance::targets`](crate::patrol::Instance::targets).
     pub target: usize,
     /// The phase of the schedule period when the attack starts.
     pub phase: usize,

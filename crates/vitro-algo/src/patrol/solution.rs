@@ -6,7 +6,7 @@ use super::policy::Policy;
 use crate::graph::NodeId;
 use serde::Serialize;
 
-/// Settings for [`solve_with`].
+/// Settings for [`solve_with`](crate::patrol::solve_with).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolveOptions {
     /// Absolute optimality tolerance on the value (in units of target value). Default 1e-5.
@@ -34,7 +34,7 @@ pub struct SolveOptions {
     /// Also search phase-locked time-dependent policies (implies
     /// [`SolveOptions::time_dependent`]): patrollers that are only at some vertices at some
     /// phases, e.g. keeping near the convoys they guard, and are attacked only there (see the
-    /// [module docs](self)). Found by local search on tubes, never certified. Default false.
+    /// [module docs](crate::patrol)). Found by local search on tubes, never certified. Default false.
     pub phase_locked: bool,
     /// With [`SolveOptions::phase_locked`] and a single patroller, also solve the full-phase
     /// time-dependent class (certified by branch and bound) and keep the better policy.
@@ -60,7 +60,7 @@ impl Default for SolveOptions {
     }
 }
 
-/// Work done by [`solve_with`].
+/// Work done by [`solve_with`](crate::patrol::solve_with).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct SolveStats {
     /// Connected supports enumerated (candidate support assignments for a team).
@@ -103,7 +103,7 @@ pub struct Solution {
 /// The worst start for one target and phase against a team.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Threat {
-    /// Index of the target in [`Instance::targets`].
+    /// Index of the target in [`Instance::targets`](crate::patrol::Instance::targets).
     pub target: usize,
     /// The phase of the schedule period when the attack starts.
     pub phase: usize,

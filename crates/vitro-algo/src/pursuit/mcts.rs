@@ -50,7 +50,7 @@ impl Default for MctsConfig {
     }
 }
 
-/// Information-set MCTS, usable for either side (see the [module docs](self)).
+/// Information-set MCTS, usable for either side (see the [module docs](crate::pursuit)).
 #[derive(Clone, Debug, Default)]
 pub struct Mcts {
     /// Settings.

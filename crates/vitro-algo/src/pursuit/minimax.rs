@@ -46,7 +46,7 @@ impl Default for MinimaxConfig {
     }
 }
 
-/// Iterative-deepening minimax, usable for either side (see the [module docs](self)).
+/// Iterative-deepening minimax, usable for either side (see the [module docs](crate::pursuit)).
 #[derive(Clone, Debug, Default)]
 pub struct Minimax {
     /// Settings.

@@ -1,5 +1,5 @@
 //! The `[search]` table of an experiment file: what counts as a failure (or what to maximise
-//! or minimise), the parameters to search and their ranges, the budget. [`check`] turns it
+//! or minimise), the parameters to search and their ranges, the budget. `check` turns it
 //! into a [`Search`], reporting a bad table with its place.
 //!
 //! ```toml

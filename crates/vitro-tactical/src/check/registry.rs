@@ -188,7 +188,7 @@ impl Registry {
 }
 
 /// The check the command line runs: the standard registry on the real town on the real
-/// terrain ([`DEFAULT_MAP`], [`DEFAULT_TERRAIN`]).
+/// terrain ([`DEFAULT_MAP`](crate::check::DEFAULT_MAP), [`DEFAULT_TERRAIN`](crate::check::DEFAULT_TERRAIN)).
 pub fn check_levels() -> Result<CheckReport, CheckError> {
     let setup = Setup::default_town()?;
     Registry::standard(&setup)?.run(&setup)

@@ -187,7 +187,7 @@ impl Agent<PatrolModel> for PatrolAgent {
 /// and the computed capture probability of an attack started now is at most `threshold`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct AttackChoice {
-    /// Index of the target in [`Instance::targets`].
+    /// Index of the target in [`Instance::targets`](crate::patrol::Instance::targets).
     pub target: usize,
     /// The phase at which the attack starts, or any.
     pub phase: Option<usize>,

@@ -1,6 +1,6 @@
 //! Delete-relaxation heuristics: h^max, FF (relaxed plan) and LM-cut.
 //!
-//! All work on a [`RelaxedTask`]: the task's actions plus an artificial goal action,
+//! All work on a `RelaxedTask`: the task's actions plus an artificial goal action,
 //! with an artificial always-true fact as the precondition of actions that have none.
 
 mod ff;
