@@ -1,5 +1,5 @@
 //! `vitro batch`, `vitro merge` and `vitro plot`: experiment suites over the scenario an
-//! experiment names, run by the mission its `kind` names ([`plugin_runner::PluginRunner`]).
+//! experiment names, run by the mission its `kind` names (`vitro_mission::batch::MissionRunner`).
 //!
 //! ```text
 //! vitro batch EXPERIMENT.toml --out DIR [--jobs N] [--shard I/N] [--resume]
@@ -14,7 +14,7 @@ use crate::Failure;
 use anyhow::anyhow;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use plugin_runner::{NoMission, PluginRunner};
+use plugin_runner::NoMission;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use vitro_batch::Runner;
@@ -22,6 +22,7 @@ use vitro_batch::design::Shard;
 use vitro_batch::journal::Status;
 use vitro_batch::plot::{PlotOptions, plot_dir};
 use vitro_batch::{BatchOptions, Experiment, ExperimentError, experiment_schema, merge, run_batch};
+use vitro_mission::batch::MissionRunner;
 
 /// Arguments of `vitro batch`.
 #[derive(Debug, Args)]
@@ -89,7 +90,7 @@ pub(crate) fn runner_for(experiment: &std::path::Path) -> Box<dyn Runner> {
         return Box::new(NoMission("the experiment names no scenario file".into()));
     };
     match crate::missions::registry().read(&path) {
-        Ok((mission, _)) => Box::new(PluginRunner { mission, path }),
+        Ok((mission, _)) => Box::new(MissionRunner { mission, path }),
         Err(e) => Box::new(NoMission(e.to_string())),
     }
 }

@@ -13,6 +13,9 @@
 //!   hash and a human summary, and draws itself for recordings and the viewer
 //!   ([`Scene`] once, a [`Frame`] per sample).
 //!
+//! With the `batch` feature, `batch::MissionRunner` runs any mission as the runs of a
+//! `vitro-batch` experiment, so a mission crate batches its experiments from code too.
+//!
 //! Scenario files name their kind on the first line that matters:
 //!
 //! ```toml
@@ -37,6 +40,8 @@
 //! );
 //! ```
 
+#[cfg(feature = "batch")]
+pub mod batch;
 mod kind;
 mod metric;
 mod registry;
