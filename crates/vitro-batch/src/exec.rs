@@ -24,6 +24,9 @@ pub struct BatchOptions {
     pub jobs: usize,
     /// The share of runs to make (`None`: all).
     pub shard: Option<Shard>,
+    /// Where the shard came from, for the manifest (e.g. `"--shard"`, or the line
+    /// [`shard_from_env`](crate::shard_env::shard_from_env) gives).
+    pub shard_from: Option<String>,
     /// Complete the runs missing from `out` instead of refusing a directory with results.
     pub resume: bool,
 }
@@ -139,6 +142,9 @@ pub fn run_batch(
         return Err(BatchError::Conditioned);
     }
     let mut manifest = Manifest::new(exp, opts.shard.filter(|s| s.count > 1));
+    if manifest.shard.is_some() {
+        manifest.shard_from = opts.shard_from.clone();
+    }
     let (journal, reading) = open_dir(dir, &mut manifest, opts.resume)?;
     let mut done = BTreeSet::new();
     for rec in &reading.records {

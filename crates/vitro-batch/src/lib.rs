@@ -58,7 +58,7 @@
 //! assert_eq!(exp.design.runs(), Some(10));
 //!
 //! // 4. The batch: resumable, the same results with any number of jobs.
-//! let opts = BatchOptions { out: dir.join("results"), jobs: 2, shard: None, resume: false };
+//! let opts = BatchOptions { out: dir.join("results"), jobs: 2, shard: None, shard_from: None, resume: false };
 //! let report = run_batch(&exp, &Courier, &opts, &|p| eprintln!("{}/{}", p.done, p.total))?;
 //! assert_eq!((report.ran, report.failed.len()), (10, 0));
 //!
@@ -85,6 +85,7 @@ mod parquet_out;
 pub mod plot;
 pub mod runner;
 pub mod search;
+pub mod shard_env;
 pub mod stats;
 pub mod stop;
 pub mod table;

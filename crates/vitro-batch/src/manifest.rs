@@ -99,6 +99,10 @@ pub struct Manifest {
     pub runs_total: u64,
     /// The share of runs this directory is for (`None`: all of them).
     pub shard: Option<Shard>,
+    /// Where the shard came from: `--shard`, or a cluster's job array (see
+    /// [`shard_env`](crate::shard_env)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard_from: Option<String>,
     /// Directories merged into this one.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub merged_from: Vec<String>,
@@ -172,6 +176,7 @@ impl Manifest {
             keep: exp.keep.clone(),
             runs_total: total,
             shard,
+            shard_from: None,
             merged_from: Vec::new(),
             sessions: Vec::new(),
             stop: None,

@@ -148,6 +148,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeReport, MergeError> {
     session.finished = Some(manifest::now());
     sessions.push(session);
     merged.shard = None;
+    merged.shard_from = None;
     merged.merged_from = dirs.iter().map(|d| d.display().to_string()).collect();
     merged.sessions = sessions;
     merged.plan_runs(0..merged.runs_total);

@@ -64,6 +64,7 @@ fn opts(out: &Path, jobs: usize) -> BatchOptions {
         out: out.to_owned(),
         jobs,
         shard: None,
+        shard_from: None,
         resume: false,
     }
 }

@@ -21,6 +21,7 @@ use vitro_batch::Runner;
 use vitro_batch::design::Shard;
 use vitro_batch::journal::Status;
 use vitro_batch::plot::{PlotOptions, plot_dir};
+use vitro_batch::shard_env::shard_from_env;
 use vitro_batch::{BatchOptions, Experiment, ExperimentError, experiment_schema, merge, run_batch};
 use vitro_mission::batch::MissionRunner;
 
@@ -36,7 +37,9 @@ pub(crate) struct BatchArgs {
     /// Runs at once (default: the number of CPUs).
     #[arg(long, short = 'j', value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     jobs: Option<u32>,
-    /// Makes only shard I of N: the runs whose number k has k mod N = I.
+    /// Makes only shard I of N: the runs whose number k has k mod N = I. Without it, a task
+    /// of a Slurm job array (SLURM_ARRAY_TASK_ID / _COUNT / _MIN) or of a Kubernetes Indexed
+    /// Job (JOB_COMPLETION_INDEX with VITRO_SHARD_COUNT) makes its own shard.
     #[arg(long, value_name = "I/N")]
     shard: Option<Shard>,
     /// Completes the runs missing from DIR (after a kill or a crash).
@@ -105,6 +108,15 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
             "an experiment and --out DIR are needed"
         )));
     };
+    // Without --shard, a task of a Slurm job array or a Kubernetes Indexed Job makes its share.
+    let (shard, shard_from) = match args.shard {
+        Some(s) => (Some(s), Some("--shard".to_string())),
+        None => match shard_from_env(|k| std::env::var(k).ok()) {
+            Ok(Some((s, from))) => (Some(s), Some(from)),
+            Ok(None) => (None, None),
+            Err(e) => return Err(Failure::Input(anyhow!("no shard for this task: {e}"))),
+        },
+    };
     let runner = runner_for(path);
     let runner: &dyn Runner = runner.as_ref();
     let exp = load(path, runner)?;
@@ -123,8 +135,9 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
         } else {
             String::new()
         },
-        args.shard
-            .map(|s| format!(", shard {s}"))
+        shard
+            .zip(shard_from.as_ref())
+            .map(|(s, from)| format!(", shard {s} (from {from})"))
             .unwrap_or_default(),
         out.display()
     );
@@ -133,7 +146,8 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
     let opts = BatchOptions {
         out: out.clone(),
         jobs,
-        shard: args.shard,
+        shard,
+        shard_from,
         resume: args.resume,
     };
     let started = std::sync::OnceLock::new();

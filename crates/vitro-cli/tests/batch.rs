@@ -211,6 +211,70 @@ fn two_shards_merge_into_the_unsharded_result() {
     );
 }
 
+/// `vitro batch` as one task of a job array: the shard comes from the environment.
+fn vitro_task(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_vitro"));
+    c.args(args);
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().expect("the vitro binary runs")
+}
+
+#[test]
+fn a_slurm_job_array_shards_without_shard_flags() {
+    let d = tmp("slurm");
+    let exp = experiment(&d, &scenario("tests/small.toml"), SMALL);
+    let dir = |n: &str| d.join(n).display().to_string();
+    ok(&vitro(&["batch", &exp, "--out", &dir("all"), "-j", "2"]));
+    // `sbatch --array=1-3`: tasks 1, 2, 3, each its own shard of three.
+    let mut parts = Vec::new();
+    for task in ["1", "2", "3"] {
+        let out = dir(&format!("task{task}"));
+        let o = vitro_task(
+            &["batch", &exp, "--out", &out, "-j", "1"],
+            &[
+                ("SLURM_ARRAY_JOB_ID", "77"),
+                ("SLURM_ARRAY_TASK_ID", task),
+                ("SLURM_ARRAY_TASK_COUNT", "3"),
+                ("SLURM_ARRAY_TASK_MIN", "1"),
+            ],
+        );
+        ok(&o);
+        let m: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(Path::new(&out).join("manifest.json")).expect("a manifest"),
+        )
+        .expect("JSON");
+        let index = task.parse::<u64>().expect("a number") - 1;
+        assert_eq!(m["shard"]["index"], index);
+        assert_eq!(m["shard"]["count"], 3);
+        assert_eq!(
+            m["shard_from"],
+            format!("Slurm job array 77, task {task} (SLURM_ARRAY_TASK_ID)")
+        );
+        parts.push(out);
+    }
+    let mut args = vec!["merge"];
+    args.extend(parts.iter().map(String::as_str));
+    let merged = dir("merged");
+    args.extend(["--out", merged.as_str()]);
+    ok(&vitro(&args));
+    assert_eq!(
+        rows(&d.join("merged/summary.csv")),
+        rows(&d.join("all/summary.csv"))
+    );
+    // A task id past the array is bad input, with the variable named.
+    let o = vitro_task(
+        &["batch", &exp, "--out", &dir("bad"), "-j", "1"],
+        &[
+            ("SLURM_ARRAY_TASK_ID", "5"),
+            ("SLURM_ARRAY_TASK_COUNT", "3"),
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("SLURM_ARRAY_TASK_ID"), "{}", stderr(&o));
+}
+
 #[test]
 fn a_killed_batch_resumes_with_nothing_lost_or_duplicated() {
     let d = tmp("kill");

@@ -27,6 +27,7 @@ fn manifest(params: Vec<ParamInfo>, metrics: &[&str]) -> Manifest {
         },
         runs_total: 0,
         shard: None,
+        shard_from: None,
         merged_from: vec![],
         sessions: vec![],
         stop: None,
