@@ -2,13 +2,14 @@
 //! experiment names, run by the mission its `kind` names (`vitro_mission::batch::MissionRunner`).
 //!
 //! ```text
-//! vitro batch EXPERIMENT.toml --out DIR [--jobs N] [--shard I/N] [--resume]
+//! vitro batch EXPERIMENT.toml --out DIR [--jobs N] [--shard I/N] [--resume] [--slurm [--tasks N] [--time T]]
 //! vitro batch --print-schema
 //! vitro merge DIR... --out DIR
 //! vitro plot DIR --out PLOTS [--metric M]... [--hist M]... [--success M]
 //! ```
 
 mod plugin_runner;
+mod slurm;
 
 use crate::Failure;
 use anyhow::anyhow;
@@ -16,7 +17,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use plugin_runner::NoMission;
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use vitro_batch::Runner;
 use vitro_batch::design::Shard;
 use vitro_batch::journal::Status;
@@ -45,6 +46,21 @@ pub(crate) struct BatchArgs {
     /// Completes the runs missing from DIR (after a kill or a crash).
     #[arg(long)]
     resume: bool,
+    /// Prints the sbatch script of a Slurm job array that makes the experiment in shards
+    /// (CPUs per task: --jobs, default 2), then merges them into DIR; runs nothing.
+    #[arg(long, conflicts_with_all = ["shard", "resume"])]
+    slurm: bool,
+    /// Tasks of the --slurm job array.
+    #[arg(long, value_name = "N", default_value_t = 4, requires = "slurm", value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    tasks: u64,
+    /// Wall-time limit of each --slurm task (MM, HH:MM:SS or D-HH:MM:SS).
+    #[arg(
+        long,
+        value_name = "TIME",
+        default_value = "01:00:00",
+        requires = "slurm"
+    )]
+    time: String,
     /// Prints the JSON Schema of experiment files and exits.
     #[arg(long, exclusive = true)]
     print_schema: bool,
@@ -108,6 +124,9 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
             "an experiment and --out DIR are needed"
         )));
     };
+    if args.slurm {
+        return slurm_script(args, path, out);
+    }
     // Without --shard, a task of a Slurm job array or a Kubernetes Indexed Job makes its share.
     let (shard, shard_from) = match args.shard {
         Some(s) => (Some(s), Some("--shard".to_string())),
@@ -225,6 +244,34 @@ pub(crate) fn load(path: &std::path::Path, runner: &dyn Runner) -> Result<Experi
 }
 
 /// Worker threads: `--jobs`, else the number of CPUs.
+/// `--slurm`: checks the experiment, then prints the job array's script.
+fn slurm_script(args: &BatchArgs, path: &Path, out: &Path) -> Result<(), Failure> {
+    if !slurm::is_slurm_time(&args.time) {
+        return Err(Failure::Input(anyhow!(
+            "--time {:?}: expected MM, HH:MM:SS or D-HH:MM:SS",
+            args.time
+        )));
+    }
+    let runner = runner_for(path);
+    let exp = load(path, runner.as_ref())?;
+    let vitro = std::env::current_exe()
+        .map_err(|e| Failure::Runtime(anyhow!("cannot find the vitro binary: {e}")))?;
+    print!(
+        "{}",
+        slurm::script(&slurm::ArrayPlan {
+            name: &exp.name,
+            vitro: &vitro,
+            experiment: path,
+            out,
+            tasks: args.tasks,
+            cpus: args.jobs.unwrap_or(2),
+            time: &args.time,
+            runs: exp.design.runs().unwrap_or(0),
+        })
+    );
+    Ok(())
+}
+
 pub(crate) fn jobs(arg: Option<u32>) -> usize {
     arg.map_or_else(
         || std::thread::available_parallelism().map_or(1, |n| n.get()),

@@ -10,7 +10,7 @@
 //! vitro map info FILE.osm.pbf [--json]
 //! vitro map render FILE.osm.pbf --out map.png [--terrain GRID] [--offset X,Y]
 //! vitro terrain viewshed GRID --observer X,Y --observer-height H --target-height T --out MASK.asc
-//! vitro batch EXPERIMENT.toml --out DIR [--jobs N] [--shard I/N] [--resume]
+//! vitro batch EXPERIMENT.toml --out DIR [--jobs N] [--shard I/N] [--resume] [--slurm [--tasks N] [--time T]]
 //! vitro search EXPERIMENT.toml --out DIR [--budget N] [--strategy adaptive|random] [--resume]
 //! vitro merge DIR... --out DIR
 //! vitro plot DIR --out PLOTS [--metric M]... [--hist M]... [--success M]

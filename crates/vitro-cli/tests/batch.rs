@@ -276,6 +276,33 @@ fn a_slurm_job_array_shards_without_shard_flags() {
 }
 
 #[test]
+fn slurm_prints_a_job_array_and_its_merge() {
+    let d = tmp("sbatch");
+    let exp = experiment(&d, &scenario("tests/small.toml"), SMALL);
+    let out = d.join("out").display().to_string();
+    let o = vitro(&[
+        "batch", &exp, "--out", &out, "--slurm", "--tasks", "3", "-j", "4",
+    ]);
+    ok(&o);
+    let script = String::from_utf8_lossy(&o.stdout);
+    assert!(script.starts_with("#!/bin/bash"), "{script}");
+    for part in [
+        "--array=0-2",
+        "--cpus-per-task=4",
+        "--time=01:00:00",
+        "afterok",
+        " merge ",
+    ] {
+        assert!(script.contains(part), "{part} in {script}");
+    }
+    assert!(!d.join("out").exists(), "--slurm runs nothing");
+    let o = vitro(&["batch", &exp, "--out", &out, "--slurm", "--time", "soon"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let o = vitro(&["batch", &exp, "--out", &out, "--slurm", "--shard", "0/2"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+#[test]
 fn a_killed_batch_resumes_with_nothing_lost_or_duplicated() {
     let d = tmp("kill");
     // Runs long enough (a simulated hour of the demo each) to be killed midway.
