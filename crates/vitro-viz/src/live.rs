@@ -306,6 +306,7 @@ fn run_loop(mut source: impl LiveSource, shared: Arc<Shared>) {
     let mut t = ctl.sim_time().as_nanos();
     publish(&mut source, &shared, t);
     let mut last_publish = Instant::now();
+    let mut shown_events = ctl.events_fired();
     let (failure, stopped) = loop {
         if shared.quit.load(Ordering::SeqCst) {
             break (None, true);
@@ -343,9 +344,13 @@ fn run_loop(mut source: impl LiveSource, shared: Arc<Shared>) {
         if !going || at_end {
             break (None, false);
         }
-        if interrupted || last_publish.elapsed() >= FRAME_WALL {
+        // A paused run shows where it stopped even when the interrupt that stopped it was
+        // counted before this slice began (it then looks like no interrupt at all).
+        let unshown_pause = ctl.is_paused() && ctl.events_fired() != shown_events;
+        if interrupted || unshown_pause || last_publish.elapsed() >= FRAME_WALL {
             publish(&mut source, &shared, t);
             last_publish = Instant::now();
+            shown_events = ctl.events_fired();
         }
     };
     publish(&mut source, &shared, t);
