@@ -153,11 +153,14 @@ fn read_text(path: &Path, source: String) -> Result<(Loaded, Vec<Diagnostic>), D
 pub(crate) fn parse(file: &Path, text: &str) -> Result<ScenarioFile, Vec<Diagnostic>> {
     let (root, errors) = DeTable::parse_recoverable(text);
     if !errors.is_empty() {
-        return Err(errors.iter().map(|e| from_toml(file, text, e)).collect());
+        return Err(errors
+            .iter()
+            .map(|e| Diagnostic::from_toml(file, text, e))
+            .collect());
     }
     let whole = match ScenarioFile::deserialize(toml::de::Deserializer::from(root.clone())) {
         Ok(scenario) => return Ok(scenario),
-        Err(e) => from_toml(file, text, &e),
+        Err(e) => Diagnostic::from_toml(file, text, &e),
     };
     // The first error hides the others: try each part on its own.
     let mut out = Vec::new();
@@ -175,7 +178,7 @@ pub(crate) fn parse(file: &Path, text: &str) -> Result<ScenarioFile, Vec<Diagnos
                 DeValue::Array(items) => {
                     for item in items {
                         if let Err(e) = part::<EntitySpec>(item.clone()) {
-                            out.push(from_toml(file, text, &e));
+                            out.push(Diagnostic::from_toml(file, text, &e));
                         }
                     }
                     Ok(())
@@ -202,7 +205,7 @@ pub(crate) fn parse(file: &Path, text: &str) -> Result<ScenarioFile, Vec<Diagnos
             }
         };
         if let Err(e) = result {
-            out.push(from_toml(file, text, &e));
+            out.push(Diagnostic::from_toml(file, text, &e));
         }
     }
     for key in ["name", "seed", "end", "site", "places", "entity"] {
@@ -236,33 +239,4 @@ fn part<T: DeserializeOwned>(value: Spanned<DeValue<'_>>) -> Result<(), toml::de
 fn one_of(keys: &[&str]) -> String {
     let keys: Vec<String> = keys.iter().map(|k| format!("`{k}`")).collect();
     format!("one of {}", keys.join(", "))
-}
-
-/// A toml error as a diagnostic: its message split into what is wrong and what was expected.
-fn from_toml(file: &Path, text: &str, e: &toml::de::Error) -> Diagnostic {
-    let message = e.message().trim();
-    let (what, expected) = match message.split_once(", expected ") {
-        Some((what, exp)) => (what.to_owned(), Some(plain(exp))),
-        None => match message.split_once("\nexpected ") {
-            Some((what, exp)) => (what.to_owned(), Some(exp.to_owned())),
-            None => (message.replace('\n', "; "), None),
-        },
-    };
-    let expected = expected.or_else(|| {
-        let key = what.strip_prefix("missing field `")?.strip_suffix('`')?;
-        Some(format!("a key `{key}` in this table"))
-    });
-    Diagnostic::new(file, text, e.span(), what, expected)
-}
-
-/// Rust type names in serde's messages, in words.
-fn plain(expected: &str) -> String {
-    match expected {
-        "f64" => "a number".to_owned(),
-        "u32" => "a whole number in 0..=4294967295".to_owned(),
-        "u64" => "a whole number, 0 or more".to_owned(),
-        "a sequence" => "an array".to_owned(),
-        other if other.starts_with("struct ") => "a table".to_owned(),
-        other => other.to_owned(),
-    }
 }

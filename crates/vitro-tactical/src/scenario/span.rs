@@ -231,3 +231,35 @@ impl<'i> SourceMap<'i> {
         Diagnostic::new(self.file, self.text, Some(span), message, expected)
     }
 }
+
+impl Diagnostic {
+    /// A toml error as a diagnostic at its place: its message split into what is wrong and
+    /// what was expected, serde's type names in words (`f64` is "a number").
+    pub fn from_toml(file: &Path, text: &str, e: &toml::de::Error) -> Self {
+        let message = e.message().trim();
+        let (what, expected) = match message.split_once(", expected ") {
+            Some((what, exp)) => (what.to_owned(), Some(plain(exp))),
+            None => match message.split_once("\nexpected ") {
+                Some((what, exp)) => (what.to_owned(), Some(exp.to_owned())),
+                None => (message.replace('\n', "; "), None),
+            },
+        };
+        let expected = expected.or_else(|| {
+            let key = what.strip_prefix("missing field `")?.strip_suffix('`')?;
+            Some(format!("a key `{key}` in this table"))
+        });
+        Diagnostic::new(file, text, e.span(), what, expected)
+    }
+}
+
+/// Rust type names in serde's messages, in words.
+fn plain(expected: &str) -> String {
+    match expected {
+        "f64" => "a number".to_owned(),
+        "u32" => "a whole number in 0..=4294967295".to_owned(),
+        "u64" => "a whole number, 0 or more".to_owned(),
+        "a sequence" => "an array".to_owned(),
+        other if other.starts_with("struct ") => "a table".to_owned(),
+        other => other.to_owned(),
+    }
+}
