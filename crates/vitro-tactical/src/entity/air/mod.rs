@@ -173,7 +173,7 @@ mod tests {
         let ty = b.ctol(CtolKind::Procerus);
         let l = Lattice::for_ctol(ty);
         assert!(l.cell >= ty.min_turn_radius());
-        assert!(l.layer <= l.cell * ty.max_flight_path_deg.to_radians().tan());
+        assert!(l.layer <= l.cell * libm::tan(ty.max_flight_path_deg.to_radians()));
         for c in [[0, 0, 0], [3, -7, 12], [-40, 2, 1]] {
             assert_eq!(l.cell_of(l.point(c)), c);
         }

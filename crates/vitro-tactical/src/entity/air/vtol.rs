@@ -260,7 +260,7 @@ mod tests {
         // Only the tail rotor's side force is unbalanced: it drifts slowly sideways.
         assert!((b.pos[2] - 100.0).abs() < 1e-6, "{:?}", b.pos);
         assert!(b.rates[2].abs() < 1e-9 && (b.att[2] - 0.5).abs() < 1e-9);
-        assert!(b.vel[0].hypot(b.vel[1]) < 0.5);
+        assert!(libm::hypot(b.vel[0], b.vel[1]) < 0.5);
     }
 
     #[test]
