@@ -123,3 +123,39 @@ fn a_missing_scenario_is_bad_input() {
         "{err}"
     );
 }
+
+#[test]
+fn a_formation_program_that_does_not_parse_is_rejected_at_its_own_place() {
+    // The default scenario with its own leader program, which has a syntax error on line 3.
+    let dir = std::env::temp_dir().join(format!("vitro-bad-program-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let data = repo()
+        .join("data")
+        .canonicalize()
+        .expect("the data directory");
+    let text = std::fs::read_to_string(repo().join("scenarios/evacuation.toml"))
+        .expect("the default scenario")
+        .replace("\"../data/", &format!("\"{}/", data.display()))
+        .replace(
+            "# program = \"../data/rules/formation/wedge.rules\"",
+            "program = \"broken.jz\"",
+        );
+    assert!(text.contains("program = \"broken.jz\""));
+    let scenario = dir.join("scenario.toml");
+    std::fs::write(&scenario, text).expect("written");
+    std::fs::write(
+        dir.join("broken.jz"),
+        "// A leader program.\n// Line 3 misses a bracket.\nwhen eyes [contact then form squad [line]\n",
+    )
+    .expect("written");
+    let (code, out, err) = vitro(&["validate", &scenario.display().to_string()]);
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(code, 2, "{err}");
+    assert!(out.is_empty(), "{out}");
+    let program = dir.join("broken.jz").display().to_string();
+    assert!(err.contains(&format!("{program}:3:")), "{err}");
+    assert!(
+        err.contains("expected a leader program in the rule language"),
+        "{err}"
+    );
+}

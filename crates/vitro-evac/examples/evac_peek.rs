@@ -50,6 +50,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             i.map(|i| &i.plan)
         );
     }
+    let commander = m.sim.agent(m.brief.truck).and_then(|a| {
+        a.as_any()
+            .downcast_ref::<vitro_evac::agents::commander::Commander>()
+    });
+    if let Some(c) = commander {
+        let log: Vec<String> = c
+            .log
+            .iter()
+            .map(|(t, p)| format!("{:.0} s {p:?}", t.as_secs_f64()))
+            .collect();
+        println!("phases: {}", log.join(", "));
+    }
     for mem in &m.members {
         let c = m.sim.env().conditions.get(mem.id);
         println!("{:10} {:?}", mem.name, c.map(|c| c.status));

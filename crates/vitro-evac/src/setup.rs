@@ -459,11 +459,14 @@ fn formation_brief(
     loaded: &vitro_tactical::scenario::Loaded,
     level: vitro_tactical::entity::Level,
 ) -> Result<FormationBrief, MissionError> {
-    let program = match &loaded.program {
-        Some(path) => std::fs::read_to_string(path).map_err(|e| {
-            MissionError::Setup(format!("formation program {}: {e}", path.display()))
-        })?,
-        None => LEADER_PROGRAM.to_string(),
+    let (name, program) = match &loaded.program {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).map_err(|e| {
+                MissionError::Setup(format!("formation program {}: {e}", path.display()))
+            })?;
+            (path.display().to_string(), text)
+        }
+        None => ("leader.jz".to_string(), LEADER_PROGRAM.to_string()),
     };
     let mut params = FormationParams {
         spacing: loaded.file.formation.spacing_m,
@@ -472,7 +475,7 @@ fn formation_brief(
     if level == vitro_tactical::entity::Level::Discrete {
         params.period = DISCRETE_PERIOD;
     }
-    Leader::new(&program, Vec::new(), params.clone())
+    Leader::named(&name, &program, Vec::new(), params.clone())
         .map_err(|e| MissionError::Setup(format!("formation: {e}")))?;
     Ok(FormationBrief { program, params })
 }

@@ -21,6 +21,10 @@ pub mod environment {}
 #[doc = include_str!("../../../docs/guide/src/radio.md")]
 pub mod radio {}
 
+/// What an agent knows (`docs/guide/src/briefing.md`).
+#[doc = include_str!("../../../docs/guide/src/briefing.md")]
+pub mod briefing {}
+
 /// Tutorial part 1: a controller on a synthetic graph (`docs/guide/src/tutorial-1-graph.md`).
 #[doc = include_str!("../../../docs/guide/src/tutorial-1-graph.md")]
 pub mod tutorial_1_graph {}

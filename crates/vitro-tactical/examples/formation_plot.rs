@@ -7,6 +7,10 @@
 //!
 //! `cargo run --release -p vitro-tactical --example formation_plot [OUT.png]`
 
+// Measurements of the outcome (distances, angles, fits), not model code: platform math is
+// allowed here (clippy.toml bans it where it could change a trace hash).
+#![allow(clippy::disallowed_methods)]
+
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont, point};
 use std::time::Instant;
 use tiny_skia::{

@@ -82,6 +82,13 @@ fn build(setup: &Setup, scene: Scene, seed: u64) -> Simulation<Tactical> {
             sim.env_mut()
                 .add_vehicle(id, kind, level, start, 0.0)
                 .expect("a free node");
+            // A body the aircraft's cameras can see (they find their targets by looking).
+            let seen = vitro_tactical::condition::Condition::new(
+                vitro_tactical::condition::Role::Car,
+                vitro_tactical::world::Side::Neutral,
+                1.5,
+            );
+            sim.env_mut().conditions.insert(id, seen);
             vehicles.push(id);
         }
     }
@@ -155,6 +162,13 @@ fn build(setup: &Setup, scene: Scene, seed: u64) -> Simulation<Tactical> {
                 sim.env_mut()
                     .add_vtol(id, kind, vtol_level, start, 0.0)
                     .expect("a level of the helicopter");
+                // Its camera looks from its body.
+                let body = vitro_tactical::condition::Condition::new(
+                    vitro_tactical::condition::Role::Vidar,
+                    vitro_tactical::world::Side::Blue,
+                    0.5,
+                );
+                sim.env_mut().conditions.insert(id, body);
             }
         }
     }

@@ -540,14 +540,3 @@ impl Sensor<Arena> for OwnPose {
         env.pose(me)
     }
 }
-
-/// Another entity's pose, as a tracking sensor (a camera locked on a target) reports it.
-#[derive(Copy, Clone, Debug)]
-pub struct TrackTarget(pub EntityId);
-
-impl Sensor<Arena> for TrackTarget {
-    type Reading = Option<Pose>;
-    fn read(&self, env: &Arena, _: EntityId, _: &mut Probe<'_>) -> Option<Pose> {
-        env.pose(self.0)
-    }
-}

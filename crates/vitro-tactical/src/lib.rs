@@ -88,6 +88,7 @@ pub mod actuate;
 pub mod arena;
 pub mod autopilot;
 pub mod behaviour;
+pub mod belief;
 pub mod check;
 pub mod condition;
 pub mod entity;

@@ -4,9 +4,11 @@
 //! One closed vocabulary for every controller of the tactical world, so that messages are
 //! plain data (serialised into the trace hash) and any agent can read any report.
 
+use crate::entity::{Level, Pose};
 use crate::world::Side;
 use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
+use vitro::time::{SimDuration, SimTime};
 
 /// A message of the tactical model.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -20,8 +22,9 @@ pub enum Radio {
         /// The side the observer believes it is on.
         seen_as: Side,
     },
-    /// The sender's own position, world metres.
-    Position([f64; 3]),
+    /// The sender's own fix (blue-force tracking: its GPS position, heading and speed, and
+    /// when it was taken).
+    Position(Fix),
     /// An order to the receiver: what to do next.
     Order(Order),
     /// The sender's plan, step by step (e.g. the actions of a repaired plan).
@@ -47,4 +50,78 @@ pub enum Order {
     },
     /// Stop and hold position.
     Hold,
+}
+
+/// One fix of an entity: where it was, which way it faced and moved, and when.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Fix {
+    /// Position, world metres.
+    pub pos: [f64; 3],
+    /// Heading (where it faces), radians counter-clockwise from east (0 if unknown).
+    pub heading: f64,
+    /// Course over the ground (where it moves), radians counter-clockwise from east.
+    pub course: f64,
+    /// Speed over the ground along the course, m/s (0 if unknown).
+    pub speed: f64,
+    /// When it was taken.
+    pub at: SimTime,
+}
+
+impl Fix {
+    /// The fix of a pose taken at `at`, moving the way it faces (vehicles, aircraft).
+    pub fn of(pose: &Pose, at: SimTime) -> Fix {
+        Fix {
+            pos: pose.pos,
+            heading: pose.heading,
+            course: pose.heading,
+            speed: pose.speed,
+            at,
+        }
+    }
+
+    /// The fix a GPS gives of `pose` at `at` after its fix `prev`: a trooper at the
+    /// directed level may walk one way and face another, so its course and speed are those
+    /// over the ground since `prev` (if that is at most 10 s old); anything else moves the
+    /// way it faces ([`Fix::of`]).
+    pub fn after(pose: &Pose, at: SimTime, prev: Option<&Fix>) -> Fix {
+        let mut fix = Fix::of(pose, at);
+        if pose.level == Level::Directed
+            && let Some(p) = prev
+        {
+            let dt = at.saturating_since(p.at).as_secs_f64();
+            if dt > 0.0 && dt <= 10.0 {
+                let (dx, dy) = (pose.pos[0] - p.pos[0], pose.pos[1] - p.pos[1]);
+                fix.course = libm::atan2(dy, dx);
+                fix.speed = libm::hypot(dx, dy) / dt;
+            }
+        }
+        fix
+    }
+
+    /// How old the fix is at `now`.
+    pub fn age(&self, now: SimTime) -> SimDuration {
+        now.saturating_since(self.at)
+    }
+
+    /// Where the entity is at `now` if it kept its course and speed since the fix (dead
+    /// reckoning; the height is kept).
+    pub fn predicted(&self, now: SimTime) -> [f64; 3] {
+        let d = self.speed * self.age(now).as_secs_f64();
+        [
+            self.pos[0] + d * libm::cos(self.course),
+            self.pos[1] + d * libm::sin(self.course),
+            self.pos[2],
+        ]
+    }
+
+    /// The fix as a pose at `now`: the dead-reckoned position, the reported heading and
+    /// speed, at `level`.
+    pub fn pose(&self, now: SimTime, level: Level) -> Pose {
+        Pose {
+            pos: self.predicted(now),
+            heading: self.heading,
+            speed: self.speed,
+            level,
+        }
+    }
 }

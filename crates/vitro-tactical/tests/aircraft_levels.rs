@@ -1,6 +1,10 @@
 //! Aircraft at their levels: the coordinated turn, the helicopter's hover, and one mission
 //! flown by both aircraft types at both levels.
 
+// Measurements of the outcome (distances, angles, fits), not model code: platform math is
+// allowed here (clippy.toml bans it where it could change a trace hash).
+#![allow(clippy::disallowed_methods)]
+
 mod common;
 
 use common::{Samples, record, sim, start, town};
@@ -321,6 +325,15 @@ where
         )
         .unwrap();
     place(s.env_mut(), uav, [at[0] - 300.0, at[1], at[2] + 150.0]);
+    // Both are bodies the UAV's camera can see (the car is the target it finds and follows:
+    // the mission knows no other way where the car is).
+    use vitro_tactical::condition::{Condition, Role};
+    use vitro_tactical::world::Side;
+    let cars = Condition::new(Role::Car, Side::Neutral, 1.5);
+    s.env_mut().conditions.insert(car, cars);
+    s.env_mut()
+        .conditions
+        .insert(uav, Condition::new(Role::Procerus, Side::Blue, 0.5));
     start(&mut s, car);
     start(&mut s, uav);
     let mut d = Vec::new();

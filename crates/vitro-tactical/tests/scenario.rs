@@ -1,6 +1,10 @@
 //! Scenario files of the evacuation mission: the default scenario, defaults and presets,
 //! and the problems validation reports (every one, each at its place).
 
+// Measurements of the outcome (distances, angles, fits), not model code: platform math is
+// allowed here (clippy.toml bans it where it could change a trace hash).
+#![allow(clippy::disallowed_methods)]
+
 use std::path::{Path, PathBuf};
 use vitro_site::map::{MapConfig, TownMap};
 use vitro_tactical::entity::Level;

@@ -9,11 +9,10 @@
 //! - [`AirRole::Scout`] (Procerus): flies the route ahead of the truck;
 //! - [`Ugv`]: drives to the junctions ahead of the truck.
 
-use super::commander::truck_pose;
 use super::cover::{CoverPlanner, Repair, checkpoints, nearest};
 use super::overwatch::Overwatch;
 use super::patrol::PatrolUnit;
-use super::{Reporter, SENSE, tell};
+use super::{Reporter, SENSE, last_known, note_friends, tell};
 use crate::act::{Drive, Pilot};
 use crate::brief::{BLUE, Brief};
 use crate::sense::{Myself, Vision};
@@ -23,7 +22,8 @@ use vitro::env::NodeId;
 use vitro::sim::{Context, Input};
 use vitro::time::SimDuration;
 use vitro_site::map::Mode;
-use vitro_tactical::arena::{Ev, TrackTarget};
+use vitro_tactical::arena::{Ev, OwnPose};
+use vitro_tactical::belief::{Beacon, Whereabouts};
 use vitro_tactical::condition::Status;
 use vitro_tactical::entity::air::FlightCommand;
 use vitro_tactical::model::{Controller, Intention, Tactical};
@@ -94,12 +94,17 @@ pub struct Aircraft {
     overwatch: Overwatch,
     /// True once the convoy is done and the aircraft searches for the HVT.
     pub hunting: bool,
+    /// Where it believes the others are (their reports, its own camera).
+    known: Whereabouts,
+    beacon: Beacon,
 }
 
 impl Aircraft {
     /// An aircraft of `brief` with `role`, flying `height` metres above the ground.
     pub fn new(brief: Arc<Brief>, pilot: Pilot, role: AirRole, height: f64) -> Self {
         Aircraft {
+            known: super::whereabouts(&brief),
+            beacon: super::beacon(&brief),
             brief,
             pilot,
             role,
@@ -114,6 +119,17 @@ impl Aircraft {
             overwatch: Overwatch::default(),
             hunting: false,
         }
+    }
+
+    /// Where it believes the others are: their position reports and its own camera's fixes.
+    pub fn known(&self) -> &Whereabouts {
+        &self.known
+    }
+
+    /// Where it believes the truck is now (dead-reckoned from the last report, or the last
+    /// reported place once that is stale; none before the first report).
+    fn truck(&self, cx: &mut Context<'_, Tactical>) -> Option<[f64; 3]> {
+        last_known(&self.known, self.brief.truck, cx.now())
     }
 
     /// A Vidar of the cover team `team` (in slot order); the first plans for all.
@@ -142,7 +158,9 @@ impl Aircraft {
 
     /// A patrol step: the next checkpoint of the patrol game, flown to (or none: it stays).
     fn patrol_step(&mut self, cx: &mut Context<'_, Tactical>) {
-        let truck = truck_pose(cx, self.brief.truck).map(|p| self.brief.site.to_town([p[0], p[1]]));
+        let truck = self
+            .truck(cx)
+            .map(|p| self.brief.site.to_town([p[0], p[1]]));
         let Some(unit) = self.patrol.as_mut() else {
             return;
         };
@@ -182,25 +200,32 @@ impl Aircraft {
 
     /// The lead's turn: makes or repairs the cover plan and hands out the steps.
     fn lead_cover(&mut self, cx: &mut Context<'_, Tactical>) {
-        let Some(truck) = truck_pose(cx, self.brief.truck) else {
+        let Some(truck) = self.truck(cx) else {
             return;
         };
+        let me = cx.me();
+        let now = cx.now();
+        let own = cx.sense(&OwnPose).map(|p| p.pos);
         let Some(planner) = self.cover.as_mut() else {
             return;
         };
         let k = nearest(&planner.points, truck);
         let team = planner.team.clone();
-        let now: Vec<usize> = team
+        // Each Vidar where its last report puts it (itself: its own GPS).
+        let at: Vec<usize> = team
             .iter()
             .map(|&id| {
-                cx.sense(&TrackTarget(id))
-                    .map_or(0, |p| nearest(&planner.points, p.pos))
+                let pos = if id == me {
+                    own
+                } else {
+                    last_known(&self.known, id, now)
+                };
+                pos.map_or(0, |p| nearest(&planner.points, p))
             })
             .collect();
-        let Some(Repair { steps, replace, .. }) = planner.update(k, &now) else {
+        let Some(Repair { steps, replace, .. }) = planner.update(k, &at) else {
             return;
         };
-        let me = cx.me();
         for (id, mine) in team.into_iter().zip(steps) {
             if mine.is_empty() && !replace {
                 continue;
@@ -264,8 +289,9 @@ impl Aircraft {
             return;
         }
         let last = self.brief.route.len().saturating_sub(1);
-        let done =
-            truck_pose(cx, self.brief.truck).is_some_and(|p| progress(&self.brief, p) >= last);
+        let done = self
+            .truck(cx)
+            .is_some_and(|p| progress(&self.brief, p) >= last);
         if done {
             self.hunting = true;
             self.fly_orbit(cx);
@@ -308,7 +334,7 @@ impl Aircraft {
             AirRole::Patrol if self.patrol.is_some() => return self.patrol_step(cx),
             _ => {}
         }
-        let Some(truck) = truck_pose(cx, self.brief.truck) else {
+        let Some(truck) = self.truck(cx) else {
             return;
         };
         let k = progress(&self.brief, truck);
@@ -330,10 +356,13 @@ impl Controller for Aircraft {
         match input {
             Input::Event(Ev::Start) => {
                 cx.join(BLUE);
+                self.beacon.start(cx);
                 cx.set_timer(SimDuration::from_secs(1), SENSE);
-                cx.set_timer(SimDuration::ZERO, PLAN);
+                // The first plan once the first position reports are in.
+                cx.set_timer(SimDuration::from_secs(1), PLAN);
                 cx.set_timer(SimDuration::from_secs_f64(OVERWATCH_S), OVERWATCH);
             }
+            Input::Timer(Beacon::TIMER) => self.beacon.tick(cx),
             Input::Timer(OVERWATCH) => {
                 self.check_hunt(cx);
                 if !self.hunting {
@@ -358,6 +387,7 @@ impl Controller for Aircraft {
             Input::Event(Ev::Waypoint(_)) if self.hunting => {}
             Input::Event(Ev::Waypoint(i)) => self.reached(*i as usize),
             Input::Message(env) => {
+                self.known.hear(env);
                 if self.overwatch.hear(&env.body) && self.hunting {
                     self.fly_orbit(cx);
                 }
@@ -378,6 +408,7 @@ impl Controller for Aircraft {
                     .is_some_and(|(c, _)| c.status == Status::Active);
                 if active {
                     let seen = cx.sense(&Vision(self.brief.sensors.air.vision()));
+                    note_friends(&mut self.known, &seen, cx.now());
                     self.reporter.report(&seen, cx);
                     let period = SimDuration::from_secs_f64(self.brief.sensors.period_s);
                     cx.set_timer(period, SENSE);
@@ -426,12 +457,16 @@ pub struct Ugv {
     drive: Drive,
     reporter: Reporter,
     goal: Option<NodeId>,
+    known: Whereabouts,
+    beacon: Beacon,
 }
 
 impl Ugv {
     /// The UGV of `brief`, driving at `drive`'s level.
     pub fn new(brief: Arc<Brief>, drive: Drive) -> Self {
         Ugv {
+            known: super::whereabouts(&brief),
+            beacon: super::beacon(&brief),
             brief,
             drive,
             reporter: Reporter::default(),
@@ -439,7 +474,9 @@ impl Ugv {
         }
     }
     fn next(&mut self, cx: &mut Context<'_, Tactical>) {
-        let Some(truck) = truck_pose(cx, self.brief.truck) else {
+        let Some(truck) = last_known(&self.known, self.brief.truck, cx.now()) else {
+            // No report of the truck yet: it waits and asks again.
+            cx.set_timer(SimDuration::from_secs(10), PLAN);
             return;
         };
         let r = &self.brief.route;
@@ -459,12 +496,19 @@ impl Controller for Ugv {
         match input {
             Input::Event(Ev::Start) => {
                 cx.join(BLUE);
+                self.beacon.start(cx);
                 cx.set_timer(SimDuration::from_secs(1), SENSE);
-                self.next(cx);
+                // The first goal once the first position reports are in.
+                cx.set_timer(SimDuration::from_secs(1), PLAN);
+            }
+            Input::Timer(Beacon::TIMER) => self.beacon.tick(cx),
+            Input::Message(env) => {
+                self.known.hear(env);
             }
             Input::Event(Ev::Arrived(_)) | Input::Timer(PLAN) => self.next(cx),
             Input::Timer(SENSE) => {
                 let seen = cx.sense(&Vision(self.brief.sensors.ground.vision()));
+                note_friends(&mut self.known, &seen, cx.now());
                 self.reporter.report(&seen, cx);
                 cx.set_timer(
                     SimDuration::from_secs_f64(self.brief.sensors.period_s),

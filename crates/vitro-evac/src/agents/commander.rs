@@ -16,7 +16,8 @@ use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
 use vitro_site::map::Mode;
 use vitro_tactical::actuate::MoveError;
-use vitro_tactical::arena::{Ev, TrackTarget};
+use vitro_tactical::arena::Ev;
+use vitro_tactical::belief::Beacon;
 use vitro_tactical::condition::Status;
 use vitro_tactical::model::{Controller, Intention, Tactical};
 use vitro_tactical::radio::{Order, Radio};
@@ -81,11 +82,14 @@ pub struct Commander {
     pub squad: Option<Squad>,
     /// Team members reported down.
     pub fallen: BTreeSet<EntityId>,
+    /// The truck's blue-force tracker.
+    beacon: Beacon,
 }
 
 impl Commander {
     /// The commander of `brief`'s truck, driving at `drive`'s level.
     pub fn new(brief: Arc<Brief>, drive: Drive, dismount: Dismount) -> Self {
+        let beacon = super::beacon(&brief);
         Commander {
             brief,
             drive,
@@ -103,6 +107,7 @@ impl Commander {
             refused: None,
             squad: None,
             fallen: BTreeSet::new(),
+            beacon,
         }
     }
 
@@ -493,7 +498,9 @@ impl Controller for Commander {
                 self.log.push((cx.now(), Phase::Out));
                 self.drive_leg(cx);
                 cx.set_timer(SimDuration::from_secs(1), SENSE);
+                self.beacon.start(cx);
             }
+            Input::Timer(Beacon::TIMER) => self.beacon.tick(cx),
             Input::Event(Ev::Arrived(n)) if self.legs().get(self.leg) == Some(n) => {
                 self.on_arrived(cx);
             }
@@ -550,9 +557,4 @@ impl Controller for Commander {
             ..Intention::default()
         })
     }
-}
-
-/// The truck's position as the team's blue-force tracker reports it.
-pub fn truck_pose(cx: &mut Context<'_, Tactical>, truck: EntityId) -> Option<[f64; 3]> {
-    cx.sense(&TrackTarget(truck)).map(|p| p.pos)
 }

@@ -22,7 +22,8 @@ use vitro_algo::pursuit::{
     PursuerStrategy, PursuerView,
 };
 use vitro_site::map::Mode;
-use vitro_tactical::arena::TrackTarget;
+use vitro_tactical::arena::OwnPose;
+use vitro_tactical::belief::Whereabouts;
 use vitro_tactical::model::Tactical;
 use vitro_tactical::radio::Radio;
 use vitro_tactical::scenario::{PursuitAlgorithm, PursuitSpec};
@@ -189,8 +190,10 @@ impl Hunt {
         self.last_seen = Some(now);
     }
 
-    /// One turn: update the belief, run the search, keep the orders.
-    pub fn turn(&mut self, cx: &mut Context<'_, Tactical>) -> HuntStep {
+    /// One turn: update the belief, run the search, keep the orders. The team is where
+    /// `known` (the lead's position reports and sightings) puts them; a pursuer not heard
+    /// from lately is left out of the turn.
+    pub fn turn(&mut self, cx: &mut Context<'_, Tactical>, known: &Whereabouts) -> HuntStep {
         let Some(board) = self.brief.board.clone() else {
             return HuntStep::Over;
         };
@@ -200,8 +203,13 @@ impl Hunt {
         let index = |n: NodeId| n.0 as usize;
         let mut team = Vec::new();
         let mut at = Vec::new();
+        let (me, now) = (cx.me(), cx.now());
         for &id in &self.team {
-            let pos = cx.sense(&TrackTarget(id)).map(|p| p.pos);
+            let pos = if id == me {
+                cx.sense(&OwnPose).map(|p| p.pos)
+            } else {
+                known.estimate(id, now)
+            };
             if let Some(n) = pos.and_then(|p| self.brief.walk_node(p)) {
                 team.push(id);
                 at.push(index(n));

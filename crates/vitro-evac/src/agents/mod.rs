@@ -11,12 +11,13 @@ pub mod red;
 pub mod squad;
 pub mod trooper;
 
-use super::brief::BLUE;
+use super::brief::{BLUE, Brief};
 use std::collections::BTreeMap;
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;
 use vitro::sim::Context;
 use vitro::time::{SimDuration, SimTime};
+use vitro_tactical::belief::{Beacon, Whereabouts};
 use vitro_tactical::model::Tactical;
 use vitro_tactical::radio::Radio;
 use vitro_tactical::sensor::Sighting;
@@ -64,4 +65,32 @@ impl Reporter {
 /// Sends `body` to one agent.
 pub(crate) fn tell(cx: &mut Context<'_, Tactical>, to: EntityId, body: Radio) {
     cx.send(Outgoing::new(Address::Agent(to), body));
+}
+
+/// The blue-force beacon of a unit of `brief`: its own GPS fix to the blue group every
+/// `sensors.report_period_s`.
+pub(crate) fn beacon(brief: &Brief) -> Beacon {
+    let period = SimDuration::from_secs_f64(brief.sensors.report_period_s);
+    Beacon::new(period, Address::Group(BLUE))
+}
+
+/// What a unit of `brief` knows of where the others are: nothing yet; fixes go stale after
+/// `sensors.stale_s`.
+pub(crate) fn whereabouts(brief: &Brief) -> Whereabouts {
+    Whereabouts::new(SimDuration::from_secs_f64(brief.sensors.stale_s))
+}
+
+/// Takes the friends an own look identified as blue into `known` (the look's own fixes).
+pub(crate) fn note_friends(known: &mut Whereabouts, seen: &[Sighting], now: SimTime) {
+    for s in seen.iter().filter(|s| s.seen_as == Side::Blue) {
+        known.saw(s, now);
+    }
+}
+
+/// Where `id` is as far as `known` goes at `now`: its fresh fix dead-reckoned, else the
+/// place it was last reported at (an agent goes there and looks), else nothing.
+pub(crate) fn last_known(known: &Whereabouts, id: EntityId, now: SimTime) -> Option<[f64; 3]> {
+    known
+        .estimate(id, now)
+        .or_else(|| known.last(id).map(|f| f.pos))
 }

@@ -135,9 +135,11 @@ impl Squad {
         let relevant = match (&self.part, &env.body) {
             (Part::Follow(_), Radio::Signal(s, _)) => s == "formation",
             (Part::Lead { .. }, Radio::Signal(s, _)) => s == "join" || s == "leave",
-            (Part::Lead { leader, .. }, Radio::Contact { .. }) => {
+            (Part::Lead { leader, .. }, Radio::Contact { .. } | Radio::Position(_)) => {
                 leader.roster().contains(&env.from)
             }
+            // The formation link: where the leader is.
+            (Part::Follow(m), Radio::Position(_)) => env.from == m.leader(),
             _ => false,
         };
         if relevant {

@@ -5,7 +5,7 @@
 
 use super::hunt::{Hunt, TurnClock};
 use super::squad::{self, Part, Squad, note};
-use super::{Reporter, SENSE, tell};
+use super::{Reporter, SENSE, last_known, note_friends, tell};
 use crate::act::{ActError, Board, Capture, Walk};
 use crate::brief::{BLUE, Brief};
 use crate::sense::{Myself, Vision};
@@ -17,8 +17,9 @@ use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
 use vitro_site::map::Mode;
 use vitro_tactical::actuate::troop::directed::MoveAndTurn;
-use vitro_tactical::arena::{Ev, TrackTarget};
+use vitro_tactical::arena::Ev;
 use vitro_tactical::behaviour::formation::{Leader, Member};
+use vitro_tactical::belief::{Beacon, Whereabouts};
 use vitro_tactical::condition::Status;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::troop::StepCmd;
@@ -79,12 +80,17 @@ pub struct Trooper {
     steered: bool,
     /// Its own id, known from its first input.
     me: Option<EntityId>,
+    /// Where it believes the others are (their reports, its own eyes).
+    known: Whereabouts,
+    beacon: Beacon,
 }
 
 impl Trooper {
     /// A trooper (or the VIP) of `brief` walking at `walk`'s level.
     pub fn new(brief: Arc<Brief>, walk: Walk) -> Self {
         Trooper {
+            known: super::whereabouts(&brief),
+            beacon: super::beacon(&brief),
             brief,
             walk,
             task: Task::Idle,
@@ -102,6 +108,11 @@ impl Trooper {
             steered: false,
             me: None,
         }
+    }
+
+    /// Where it believes the others are: their position reports and its own eyes' fixes.
+    pub fn known(&self) -> &Whereabouts {
+        &self.known
     }
 
     /// The formation leader it embeds while it leads a squad (or walks as a squad of one).
@@ -348,7 +359,8 @@ impl Trooper {
         if self.under_way || self.squad.is_some() {
             return;
         }
-        let Some(at) = cx.sense(&TrackTarget(vehicle)).map(|p| p.pos) else {
+        // Where the vehicle's reports (or its own eyes) put it; none yet: it waits.
+        let Some(at) = last_known(&self.known, vehicle, cx.now()) else {
             return;
         };
         let Some(node) = self.brief.walk_node(at) else {
@@ -400,6 +412,7 @@ impl Trooper {
     }
 
     fn on_message(&mut self, env: &Envelope<Radio>, cx: &mut Context<'_, Tactical>) {
+        self.known.hear(env);
         let status = status(cx);
         let on_foot = status == Some(Status::Active);
         if matches!(status, Some(Status::Down | Status::Captured)) {
@@ -454,6 +467,7 @@ impl Trooper {
             _ => return,
         }
         let seen = cx.sense(&Vision(self.brief.sensors.ground.vision()));
+        note_friends(&mut self.known, &seen, cx.now());
         self.reporter.report(&seen, cx);
         if let Some(s) = self.squad.as_mut() {
             s.watch(&self.brief, cx);
@@ -488,8 +502,10 @@ impl Controller for Trooper {
         match input {
             Input::Event(Ev::Start) => {
                 cx.join(BLUE);
+                self.beacon.start(cx);
                 cx.set_timer(SimDuration::from_secs(1), SENSE);
             }
+            Input::Timer(Beacon::TIMER) => self.beacon.tick(cx),
             Input::Event(Ev::Arrived(n)) => match self.squad.as_mut() {
                 // The end of a hop of the formation's (or of one begun before it).
                 Some(s) => {

@@ -8,15 +8,29 @@
 //!   either level.
 
 use crate::actuate::MoveError;
-use crate::arena::{Arena, Ev, OwnPose, TrackTarget};
+use crate::arena::{Arena, Ev, OwnPose};
 use crate::autopilot::FlyError;
+use crate::belief::Whereabouts;
 use crate::entity::air::FlightCommand;
 use crate::model::{Controller, Tactical};
+use crate::sensor::FriendFoeVision;
+use crate::sensor::track::Look;
 use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::env::{Actuator, NodeId};
 use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
+
+/// The default camera of a [`FlightMission`]: a gimballed electro-optical camera that looks
+/// all round and follows a designated vehicle out to 1.5 km (p0 = 0.95, falling linearly
+/// with distance; 10 % misidentification, which does not break a lock on a designated id).
+pub const GIMBAL: FriendFoeVision = FriendFoeVision {
+    range: 1500.0,
+    half_fov: std::f64::consts::PI,
+    p0: 0.95,
+    k: 1.0,
+    misidentification: 0.1,
+};
 
 /// Visits `route` node by node through the goal-node actuator `A`; logs each arrival.
 #[derive(Clone, Debug)]
@@ -94,9 +108,11 @@ pub enum Leg {
         secs: f64,
     },
     /// Circle a ground target, counter-clockwise, `radius` metres around it and `height`
-    /// metres above it, for `secs` seconds; the circle follows the target as it moves (its
-    /// pose read through [`TrackTarget`]), aiming 45° ahead around it at every waypoint and
-    /// every two seconds.
+    /// metres above it, for `secs` seconds; the circle follows the target as it moves (where
+    /// the aircraft's own camera, [`FlightMission::camera`], or the target's position reports
+    /// put it, dead-reckoned; the last place it was seen once that is stale), aiming 45°
+    /// ahead around it at every waypoint and every two seconds. Until the target is first
+    /// seen or reported, the aircraft keeps its course and looks again every two seconds.
     Loiter {
         /// The entity to circle.
         target: EntityId,
@@ -109,7 +125,7 @@ pub enum Leg {
     },
     /// Fly back and forth over a ground target along `axis` (radians from east), turning
     /// `half_length` metres beyond it on either side, `passes` times; each end is placed
-    /// around the target's current position.
+    /// around where the target is believed to be (as for `Loiter`).
     Loop {
         /// The entity to fly over.
         target: EntityId,
@@ -141,8 +157,16 @@ pub struct FlightMission<P> {
     pub legs_done: Vec<SimTime>,
     /// The last refusal from the autopilot, if any.
     pub error: Option<FlyError>,
+    /// The camera that finds and follows the targets of `Loiter` and `Loop` legs (looked
+    /// through at every aim).
+    pub camera: FriendFoeVision,
+    /// Where it believes the targets are: its camera's fixes and the position and contact
+    /// reports it hears.
+    pub known: Whereabouts,
     ends_at: Option<SimTime>,
     passes: u32,
+    /// True once the current leg has had its first aim.
+    aimed: bool,
 }
 
 impl<P> FlightMission<P> {
@@ -156,8 +180,11 @@ impl<P> FlightMission<P> {
             log: Vec::new(),
             legs_done: Vec::new(),
             error: None,
+            camera: GIMBAL,
+            known: Whereabouts::default(),
             ends_at: None,
             passes: 0,
+            aimed: false,
         }
     }
     /// True once every leg is flown.
@@ -183,6 +210,7 @@ where
         self.leg = i;
         self.passes = 0;
         self.ends_at = None;
+        self.aimed = false;
         let Some(leg) = self.legs.get(i).cloned() else {
             return;
         };
@@ -214,16 +242,35 @@ where
                 self.aim(cx);
                 cx.set_timer(REAIM, REAIM_KEY | i as u64);
             }
-            Leg::Loop { .. } => self.aim(cx),
+            Leg::Loop { .. } => {
+                if !self.aim(cx) {
+                    cx.set_timer(REAIM, REAIM_KEY | i as u64);
+                }
+            }
         }
     }
 
-    /// The next waypoints of a loiter or loop leg, from where the target is now: the next
-    /// point and the one after it (so the autopilot carries its speed through the first; the
-    /// leg aims again as soon as the first is reached).
-    fn aim(&mut self, cx: &mut Context<'_, Tactical>) {
+    /// Where the leg's target is believed to be now: one look of the camera first, then the
+    /// fresh fix dead-reckoned, else the last place it was seen or reported at.
+    fn locate(&mut self, target: EntityId, cx: &mut Context<'_, Tactical>) -> Option<[f64; 3]> {
+        let now = cx.now();
+        for s in cx.sense(&Look(self.camera)) {
+            if s.id == target {
+                self.known.saw(&s, now);
+            }
+        }
+        self.known
+            .estimate(target, now)
+            .or_else(|| self.known.last(target).map(|f| f.pos))
+    }
+
+    /// The next waypoints of a loiter or loop leg, from where the target is believed to be
+    /// now: the next point and the one after it (so the autopilot carries its speed through
+    /// the first; the leg aims again as soon as the first is reached). False if the target
+    /// has not been seen or reported yet (nothing is commanded).
+    fn aim(&mut self, cx: &mut Context<'_, Tactical>) -> bool {
         let Some(leg) = self.legs.get(self.leg).cloned() else {
-            return;
+            return false;
         };
         let points = match leg {
             Leg::Loiter {
@@ -232,17 +279,19 @@ where
                 height,
                 ..
             } => {
-                let (Some(me), Some(t)) = (cx.sense(&OwnPose), cx.sense(&TrackTarget(target)))
-                else {
-                    return;
+                let Some(me) = cx.sense(&OwnPose) else {
+                    return false;
                 };
-                let a = libm::atan2(me.pos[1] - t.pos[1], me.pos[0] - t.pos[0]);
+                let Some(t) = self.locate(target, cx) else {
+                    return false;
+                };
+                let a = libm::atan2(me.pos[1] - t[1], me.pos[0] - t[0]);
                 let at = |k: f64| {
                     let b = a + k * std::f64::consts::FRAC_PI_4;
                     [
-                        t.pos[0] + radius * libm::cos(b),
-                        t.pos[1] + radius * libm::sin(b),
-                        t.pos[2] + height,
+                        t[0] + radius * libm::cos(b),
+                        t[1] + radius * libm::sin(b),
+                        t[2] + height,
                     ]
                 };
                 vec![at(1.0), at(2.0)]
@@ -254,8 +303,8 @@ where
                 height,
                 ..
             } => {
-                let Some(t) = cx.sense(&TrackTarget(target)) else {
-                    return;
+                let Some(t) = self.locate(target, cx) else {
+                    return false;
                 };
                 let side = if self.passes.is_multiple_of(2) {
                     1.0
@@ -264,14 +313,14 @@ where
                 };
                 let end = |s: f64| {
                     [
-                        t.pos[0] + s * half_length * libm::cos(axis),
-                        t.pos[1] + s * half_length * libm::sin(axis),
-                        t.pos[2] + height,
+                        t[0] + s * half_length * libm::cos(axis),
+                        t[1] + s * half_length * libm::sin(axis),
+                        t[2] + height,
                     ]
                 };
                 vec![end(side), end(-side)]
             }
-            _ => return,
+            _ => return false,
         };
         self.command(
             FlightCommand::Waypoints {
@@ -280,6 +329,8 @@ where
             },
             cx,
         );
+        self.aimed = true;
+        true
     }
 }
 
@@ -290,6 +341,9 @@ where
     fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
         match input {
             Input::Event(Ev::Start) => self.begin(0, cx),
+            Input::Message(env) => {
+                self.known.hear(env);
+            }
             Input::Event(Ev::Waypoint(k)) => {
                 self.log.push((cx.now(), self.leg, *k));
                 match self.legs.get(self.leg) {
@@ -319,6 +373,12 @@ where
                     self.begin(self.leg + 1, cx);
                 } else if matches!(self.legs.get(self.leg), Some(Leg::Loiter { .. })) {
                     self.aim(cx);
+                    cx.set_timer(REAIM, key);
+                } else if matches!(self.legs.get(self.leg), Some(Leg::Loop { .. }))
+                    && !self.aimed
+                    && !self.aim(cx)
+                {
+                    // The target not found yet: look again.
                     cx.set_timer(REAIM, key);
                 }
             }

@@ -6,6 +6,7 @@
 use super::loaded::Loaded;
 use super::span::{Diagnostic, SourceMap};
 use super::{EntityType, ScenarioFile, SideSpec, VisionSpec};
+use crate::behaviour::formation::Leader;
 use std::collections::BTreeMap;
 use std::path::Path;
 use vitro_site::site::Site;
@@ -95,6 +96,35 @@ impl Checks<'_> {
         let m = v.misidentification;
         self.num(&p("misidentification"), m, false, 0.0, 1.0, "a probability");
     }
+}
+
+/// The first problem of the formation rule program at `path` (if it can be read), at its
+/// own line and column: the program is checked as the leader will load it.
+fn program_problem(path: &Path) -> Option<Diagnostic> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let name = path.display().to_string();
+    let e = Leader::check_program(&name, &text).err()?;
+    // The byte offset of the error's line and column (columns count characters).
+    let (line, column) = (e.pos.line.max(1) as usize, e.pos.column.max(1) as usize);
+    let start: usize = text
+        .split_inclusive('\n')
+        .take(line - 1)
+        .map(str::len)
+        .sum();
+    let rest = text.get(start..).unwrap_or("");
+    let offset = start
+        + rest
+            .char_indices()
+            .nth(column - 1)
+            .map_or(rest.len(), |(i, _)| i);
+    let expected = Some("a leader program in the rule language".to_string());
+    Some(Diagnostic::new(
+        path,
+        &text,
+        Some(offset..offset + 1),
+        e.kind.to_string(),
+        expected,
+    ))
 }
 
 /// Every problem of `loaded` that can be found without its site.
@@ -210,6 +240,22 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
         3600.0,
         "seconds",
     );
+    c.num(
+        "sensors.report_period_s",
+        f.sensors.report_period_s,
+        false,
+        0.0,
+        3600.0,
+        "seconds",
+    );
+    c.num(
+        "sensors.stale_s",
+        f.sensors.stale_s,
+        true,
+        0.0,
+        1e6,
+        "seconds",
+    );
     c.vision("sensors.ground", &f.sensors.ground);
     c.vision("sensors.air", &f.sensors.air);
 
@@ -292,6 +338,7 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
             resolved,
             "a formation rule file",
         );
+        c.out.extend(program_problem(resolved));
     }
     c.num(
         "formation.spacing_m",

@@ -365,6 +365,12 @@ impl VisionSpec {
 pub struct SensorsSpec {
     /// Time between two looks of each sensor, seconds.
     pub period_s: f64,
+    /// Time between two position reports of each blue unit over the radio (blue-force
+    /// tracking: its own GPS fix), seconds; 0 sends none.
+    pub report_period_s: f64,
+    /// A position report or an own sighting older than this is no longer used to estimate
+    /// where a unit is, seconds.
+    pub stale_s: f64,
     /// Vision of ground units.
     pub ground: VisionSpec,
     /// Vision of aircraft.
@@ -375,6 +381,8 @@ impl Default for SensorsSpec {
     fn default() -> Self {
         SensorsSpec {
             period_s: 1.0,
+            report_period_s: 5.0,
+            stale_s: 60.0,
             ground: VisionSpec {
                 range_m: 300.0,
                 fov_deg: 120.0,

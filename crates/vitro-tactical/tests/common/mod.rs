@@ -75,3 +75,38 @@ pub fn pct(v: &[f64], q: f64) -> f64 {
         .copied()
         .unwrap_or(f64::NAN)
 }
+
+/// A squad member whose legs are stuck (it never moves) but whose radio works: from its
+/// first input on it reports its fix to `leader` every half second, as a member's
+/// formation link does.
+pub struct Stuck {
+    /// Its leader.
+    pub leader: EntityId,
+    beacon: Option<vitro_tactical::belief::Beacon>,
+}
+
+impl Stuck {
+    /// A stuck member of `leader`'s squad.
+    pub fn new(leader: EntityId) -> Self {
+        Stuck {
+            leader,
+            beacon: None,
+        }
+    }
+}
+
+impl vitro_tactical::model::Controller for Stuck {
+    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+        use vitro_tactical::belief::Beacon;
+        match (input, self.beacon.as_mut()) {
+            (Input::Timer(Beacon::TIMER), Some(b)) => b.tick(cx),
+            (_, None) => {
+                let period = SimDuration::from_millis(500);
+                let mut b = Beacon::new(period, vitro::comm::Address::Agent(self.leader));
+                b.start(cx);
+                self.beacon = Some(b);
+            }
+            _ => {}
+        }
+    }
+}

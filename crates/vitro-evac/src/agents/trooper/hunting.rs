@@ -54,7 +54,7 @@ impl Trooper {
             return;
         }
         self.clock.begin(cx);
-        match hunt.turn(cx) {
+        match hunt.turn(cx, &self.known) {
             HuntStep::Think(delay) => {
                 cx.set_timer(delay, DECIDED);
             }

@@ -7,8 +7,9 @@ use super::motion::{Mover, xy};
 use super::pattern::{Pattern, Trail, slot_point};
 use super::record::{Arrival, Switch, TrackPoint};
 use super::sense::{FreeSlot, Gait, Hostiles, NearestNode};
-use super::{FormationError, FormationParams};
-use crate::arena::{Ev, OwnPose, TrackTarget};
+use super::{FormationError, FormationParams, LINK_STALE, at_level};
+use crate::arena::{Ev, OwnPose};
+use crate::belief::{Fix, Whereabouts};
 use crate::entity::route::wrap_angle;
 use crate::entity::{Level, Pose};
 use crate::model::{Controller, Tactical};
@@ -65,8 +66,22 @@ impl Leader {
         members: Vec<EntityId>,
         params: FormationParams,
     ) -> Result<Leader, FormationError> {
+        Leader::named("leader.jz", program, members, params)
+    }
+
+    /// [`Leader::new`] with the program named `name` in its errors (its file, when it was
+    /// read from one).
+    ///
+    /// # Errors
+    /// As [`Leader::new`].
+    pub fn named(
+        name: &str,
+        program: &str,
+        members: Vec<EntityId>,
+        params: FormationParams,
+    ) -> Result<Leader, FormationError> {
         params.validate()?;
-        let interp = kb::load("leader.jz", program, MODULES)?;
+        let interp = kb::load(name, program, MODULES)?;
         let mut roster: Vec<EntityId> = Vec::new();
         for m in members {
             if !roster.contains(&m) {
@@ -105,11 +120,31 @@ impl Leader {
                 switches: Vec::new(),
                 arrivals: Vec::new(),
                 problems: Vec::new(),
+                known: Whereabouts::new(LINK_STALE),
+                joined: Default::default(),
+                sent: None,
             },
             started: false,
             cycles: 0,
             tick_index: 0,
         })
+    }
+
+    /// Checks a leader program without building a leader: it parses, and uses only modules
+    /// and operations the leader has. Errors name the program `name`, with line and column.
+    ///
+    /// ```
+    /// use vitro_tactical::behaviour::formation::{LEADER_PROGRAM, Leader};
+    ///
+    /// assert!(Leader::check_program("leader.jz", LEADER_PROGRAM).is_ok());
+    /// let e = Leader::check_program("mine.jz", "when { then").unwrap_err();
+    /// assert_eq!((e.file.as_str(), e.pos.line), ("mine.jz", 1));
+    /// ```
+    ///
+    /// # Errors
+    /// The program's first error ([`vitro_algo::rules::RuleError`]).
+    pub fn check_program(name: &str, program: &str) -> Result<(), vitro_algo::rules::RuleError> {
+        kb::load(name, program, MODULES).map(|_| ())
     }
 
     /// The same leader, deliberating on timer `TimerTag(0x464c).key(index)` (default 0) and
@@ -230,12 +265,21 @@ impl Leader {
             self.st.problem(format!("leader.jz:{e}"));
         }
         self.st.drive(cx, &pose);
+        // The formation link: its own fix to every member, as it moves on (after this
+        // cycle's command: a hop just begun already has its speed and heading).
+        let now_pose = cx.sense(&OwnPose).unwrap_or(pose);
+        let fix = Fix::after(&now_pose, now, self.st.sent.as_ref());
+        self.st.sent = Some(fix);
+        for &m in &self.st.roster {
+            cx.send(Outgoing::new(Address::Agent(m), Radio::Position(fix)));
+        }
         self.cycles += 1;
         true
     }
 
     fn hear(&mut self, env: &Envelope<Radio>, cx: &mut Context<'_, Tactical>) {
         let st = &mut self.st;
+        st.known.hear(env);
         match &env.body {
             Radio::Order(Order::GoTo(p)) => st.go_to(cx, env.from, *p),
             Radio::Order(Order::Hold) => {
@@ -322,8 +366,8 @@ impl State {
             .map(|(_, p)| libm::atan2(p[1] - me[1], p[0] - me[0]));
     }
 
-    /// Drops members without a body; measures every member's distance to its slot; returns
-    /// their log entries.
+    /// Drops members not heard from for [`LINK_STALE`]; measures every member's distance to
+    /// its slot, where its last report puts it; returns their log entries.
     fn measure(&mut self, cx: &mut Context<'_, Tactical>, pose: &Pose) -> Vec<TrackPoint> {
         let now = cx.now();
         let me = xy(pose);
@@ -331,8 +375,16 @@ impl State {
         let mut worst: f64 = 0.0;
         let mut gone = Vec::new();
         for (i, &m) in self.roster.iter().enumerate() {
-            let Some(their) = cx.sense(&TrackTarget(m)) else {
-                gone.push(m);
+            let since = *self.joined.entry(m).or_insert(now);
+            let Some(their) = self
+                .known
+                .fresh(m, now)
+                .map(|f| f.pose(at_level(f, now, pose.level), pose.level))
+            else {
+                let silent = self.known.last(m).map_or(since, |f| f.at.max(since));
+                if now.saturating_since(silent) > LINK_STALE {
+                    gone.push(m);
+                }
                 continue;
             };
             let (base, raw) = slot_point(
@@ -371,7 +423,9 @@ impl State {
         for m in gone {
             self.roster.retain(|&r| r != m);
             self.briefed = false;
-            self.problem(format!("member {} has no body: dropped", m.0));
+            self.joined.remove(&m);
+            self.known.forget(m);
+            self.problem(format!("member {} silent: dropped", m.0));
         }
         let p = &self.params;
         self.lag = if worst > p.lag_wait {

@@ -5,10 +5,11 @@ use super::kb::{self, Signature, answers, atom, fact};
 use super::motion::{Follow, Mover, xy};
 use super::pattern::{Pattern, Trail, slot_point};
 use super::sense::{ClearWay, FreeSlot, Gait, Hostile, Hostiles, NextNode, WalkRoute};
-use super::{FormationError, FormationParams, MEMBER_PROGRAM};
+use super::{FormationError, FormationParams, LINK_STALE, MEMBER_PROGRAM, at_level};
 
 mod briefing;
-use crate::arena::{Ev, OwnPose, TrackTarget};
+use crate::arena::{Ev, OwnPose};
+use crate::belief::{Fix, Whereabouts};
 use crate::entity::{Level, Pose};
 use crate::model::{Controller, Tactical};
 use crate::radio::Radio;
@@ -72,6 +73,10 @@ struct State {
     seen: Vec<Hostile>,
     reported: Vec<(EntityId, SimTime)>,
     problems: Vec<String>,
+    /// Where the leader is, from its position reports.
+    known: Whereabouts,
+    /// Its own last fix sent to the leader.
+    sent: Option<Fix>,
 }
 
 /// A squad member (a [`Controller`]) following the leader `leader`: see the
@@ -139,6 +144,8 @@ impl Member {
                 seen: Vec::new(),
                 reported: Vec::new(),
                 problems: Vec::new(),
+                known: Whereabouts::new(LINK_STALE),
+                sent: None,
             },
             started: false,
             cycles: 0,
@@ -219,6 +226,17 @@ impl Member {
         {
             self.st.problem(e.to_string());
         }
+        // The formation link: its own fix to the leader, as it moves on (after this cycle's
+        // command).
+        let now = cx.now();
+        let fix = Fix::after(
+            &cx.sense(&OwnPose).unwrap_or(pose),
+            now,
+            self.st.sent.as_ref(),
+        );
+        self.st.sent = Some(fix);
+        let fix = Radio::Position(fix);
+        cx.send(Outgoing::new(Address::Agent(self.st.leader), fix));
         self.cycles += 1;
         true
     }
@@ -227,6 +245,7 @@ impl Member {
         if env.from != self.st.leader {
             return;
         }
+        self.st.known.hear(env);
         if let Radio::Signal(name, text) = &env.body
             && name == "formation"
         {
@@ -248,10 +267,14 @@ impl State {
         }
     }
 
-    /// Tracks the leader and finds the slot (free), where it will be in one period, and
-    /// whether the straight way there is clear.
+    /// Tracks the leader (where its reports put it now) and finds the slot (free), where it
+    /// will be in one period, and whether the straight way there is clear.
     fn locate_slot(&mut self, cx: &mut Context<'_, Tactical>, pose: &Pose) {
-        let lead = cx.sense(&TrackTarget(self.leader));
+        let now = cx.now();
+        let lead = self
+            .known
+            .fresh(self.leader, now)
+            .map(|f| f.pose(at_level(f, now, pose.level), pose.level));
         self.leader_seen = lead.is_some();
         self.slot = None;
         self.target = None;

@@ -180,6 +180,28 @@ use vitro::time::SimDuration;
 use vitro_algo::rules::RuleError;
 
 /// The leader's rule program (`data/rules/formation/leader.jz`).
+/// How long a squad trusts the last position report of a member (at the leader) or of the
+/// leader (at a member): every cycle the leader radios its fix to its members and each
+/// member its own to the leader; older than this, a member counts as gone and the leader as
+/// not seen.
+pub const LINK_STALE: SimDuration = SimDuration::from_secs(10);
+
+/// The time a squad-mate's fix is taken to at `level`: now (dead reckoning) on continuous
+/// ground; the fix's own time at the discrete level, where a body stands on its node until
+/// its hop ends (the fix's speed and heading then say which node it hops to).
+fn at_level(
+    fix: &crate::belief::Fix,
+    now: vitro::time::SimTime,
+    level: crate::entity::Level,
+) -> vitro::time::SimTime {
+    if level == crate::entity::Level::Discrete {
+        fix.at
+    } else {
+        now
+    }
+}
+
+/// The built-in leader program.
 pub const LEADER_PROGRAM: &str = include_str!("../../../../../data/rules/formation/leader.jz");
 /// The members' rule program (`data/rules/formation/member.jz`).
 pub const MEMBER_PROGRAM: &str = include_str!("../../../../../data/rules/formation/member.jz");

@@ -6,7 +6,9 @@ use crate::behaviour::formation::kb::Signature;
 use crate::behaviour::formation::motion::{Follow, Mover};
 use crate::behaviour::formation::pattern::{Pattern, Trail};
 use crate::behaviour::formation::record::{Arrival, Switch, TrackPoint};
+use crate::belief::Whereabouts;
 use crate::entity::Pose;
+use std::collections::BTreeMap;
 use vitro::entity::EntityId;
 use vitro::time::{SimDuration, SimTime};
 use vitro_site::geo::P2;
@@ -86,4 +88,11 @@ pub(super) struct State {
     pub(super) switches: Vec<Switch>,
     pub(super) arrivals: Vec<Arrival>,
     pub(super) problems: Vec<String>,
+    /// Where the members are, from their position reports.
+    pub(super) known: Whereabouts,
+    /// When each member joined (a member never heard from counts as gone
+    /// [`LINK_STALE`](super::super::LINK_STALE) after).
+    pub(super) joined: BTreeMap<EntityId, SimTime>,
+    /// Its own last fix sent to the members.
+    pub(super) sent: Option<crate::belief::Fix>,
 }

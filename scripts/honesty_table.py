@@ -1,0 +1,93 @@
+#!/usr/bin/env python3
+"""Summarises runs of experiments/mission_honesty.toml (radio loss x camera range): per point,
+the success rate (Wilson 95 % interval), the mean time uncovered and the mean number of
+adversaries detected (mean +- 1.96 standard errors), and n. With two result directories,
+prints both side by side (e.g. before and after a change).
+
+Usage: python3 scripts/honesty_table.py RESULTS_DIR [OTHER_RESULTS_DIR]
+"""
+
+import csv
+import math
+import pathlib
+import sys
+
+KEYS = ("channel.loss", "sensors.air.range_m", "sensors.ground.range_m")
+
+
+def wilson(k: int, n: int) -> tuple[float, float]:
+    if n == 0:
+        return (math.nan, math.nan)
+    z = 1.96
+    p = k / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return (centre - half, centre + half)
+
+
+def mean_ci(xs: list[float]) -> tuple[float, float]:
+    xs = [x for x in xs if not math.isnan(x)]
+    if not xs:
+        return (math.nan, math.nan)
+    m = sum(xs) / len(xs)
+    if len(xs) < 2:
+        return (m, math.nan)
+    var = sum((x - m) ** 2 for x in xs) / (len(xs) - 1)
+    return (m, 1.96 * math.sqrt(var / len(xs)))
+
+
+def num(s: str) -> float:
+    try:
+        return float(s)
+    except ValueError:
+        return math.nan
+
+
+def summary(results: pathlib.Path) -> dict:
+    rows = list(csv.DictReader(open(results / "summary.csv")))
+    points: dict = {}
+    for r in rows:
+        if r.get("status", "ok") not in ("ok", ""):
+            continue
+        key = tuple(float(r[k]) for k in KEYS)
+        points.setdefault(key, []).append(r)
+    out = {}
+    for key, rs in sorted(points.items()):
+        n = len(rs)
+        ok = sum(r["success"].lower() == "true" for r in rs)
+        lo, hi = wilson(ok, n)
+        unc = mean_ci([num(r["time_uncovered_s"]) for r in rs])
+        det = mean_ci([num(r["adversaries_detected"]) for r in rs])
+        out[key] = (n, ok / n, lo, hi, unc, det)
+    return out
+
+
+def cell(v) -> str:
+    n, p, lo, hi, unc, det = v
+    return (f"{p:.2f} [{lo:.2f}, {hi:.2f}] | {unc[0]:.0f} ± {unc[1]:.0f} | "
+            f"{det[0]:.1f} ± {det[1]:.1f} | {n}")
+
+
+def main() -> int:
+    dirs = [pathlib.Path(a) for a in sys.argv[1:3]]
+    if not dirs:
+        print(__doc__)
+        return 2
+    tables = [summary(d) for d in dirs]
+    head = "| loss | air camera m | ground camera m |"
+    cols = " success [95 % CI] | uncovered s | detected | n |"
+    if len(tables) == 1:
+        print(head + cols)
+        print("|---" * 7 + "|")
+    else:
+        print(head + cols.replace(" |", " (1) |") + cols.replace(" |", " (2) |"))
+        print("|---" * 11 + "|")
+    for key in tables[0]:
+        line = f"| {key[0]:.1f} | {key[1]:.0f} | {key[2]:.0f} | " + " | ".join(
+            cell(t[key]) if key in t else "- | - | - | -" for t in tables)
+        print(line + " |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
