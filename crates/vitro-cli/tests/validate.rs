@@ -135,11 +135,11 @@ fn a_formation_program_that_does_not_parse_is_rejected_at_its_own_place() {
         .expect("the data directory");
     let text = std::fs::read_to_string(repo().join("scenarios/evacuation.toml"))
         .expect("the default scenario")
-        .replace("\"../data/", &format!("\"{}/", data.display()))
         .replace(
             "# program = \"../data/rules/formation/wedge.rules\"",
             "program = \"broken.jz\"",
-        );
+        )
+        .replace("\"../data/", &format!("\"{}/", data.display()));
     assert!(text.contains("program = \"broken.jz\""));
     let scenario = dir.join("scenario.toml");
     std::fs::write(&scenario, text).expect("written");
