@@ -243,6 +243,13 @@ impl Mission {
         m.events = self.sim.events_fired();
         m.sim_time_s = self.sim.now().as_secs_f64();
         for mem in &self.members {
+            let condition = self.sim.env().conditions.get(mem.id);
+            if condition.is_some_and(|c| {
+                matches!(c.role, Role::Procerus | Role::Vidar | Role::Skeldar)
+                    && c.status == Status::Down
+            }) {
+                m.aircraft_down += 1;
+            }
             let agent = self.sim.agent(mem.id).map(|a| a.as_any());
             if let Some(a) = agent.and_then(|a| a.downcast_ref::<agents::red::Adversary>()) {
                 m.shots += u64::from(a.shots);
@@ -252,6 +259,9 @@ impl Mission {
                 let p = unit.game.trip_capture_probability;
                 m.patrol_capture_probability =
                     Some(m.patrol_capture_probability.map_or(p, |q| q.min(p)));
+            }
+            if let Some(c) = agent.and_then(|a| a.downcast_ref::<agents::commander::Commander>()) {
+                m.vehicle_stalls += u64::from(c.stalls);
             }
             let cover = aircraft.and_then(|a| a.cover.as_ref());
             if let Some(c) = cover {

@@ -163,6 +163,8 @@ fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
         ("messages_sent", Metric::count(m.messages_sent)),
         ("messages_lost", Metric::count(m.messages_lost)),
         ("plan_repairs", Metric::count(m.plan_repairs)),
+        ("vehicle_stalls", Metric::count(m.vehicle_stalls)),
+        ("aircraft_down", Metric::count(m.aircraft_down)),
         ("plan_cuts", Metric::count(m.plan_cuts)),
         ("plan_messages", Metric::count(m.plan_messages)),
         ("shots", Metric::count(m.shots)),
@@ -292,8 +294,14 @@ fn summary(mission: &Mission, m: &Metrics) -> Vec<(String, String)> {
         (
             "team".to_owned(),
             format!(
-                "{} casualties, uncovered {:.1} s, {} shots taken at it",
-                m.casualties, m.time_uncovered_s, m.shots
+                "{} casualties, uncovered {:.1} s, {} shots taken at it{}",
+                m.casualties,
+                m.time_uncovered_s,
+                m.shots,
+                match m.vehicle_stalls {
+                    0 => String::new(),
+                    n => format!(", the truck stuck {n} times"),
+                }
             ),
         ),
         (

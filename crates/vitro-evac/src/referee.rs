@@ -45,6 +45,11 @@ pub struct Metrics {
     pub messages_lost: u64,
     /// Repairs of the Vidars' cover plan.
     pub plan_repairs: u64,
+    /// Trips the truck gave up because it was stuck (physical level: no progress for the
+    /// arena's stall time).
+    pub vehicle_stalls: u64,
+    /// UAVs that crashed (flew into the ground at a continuous level).
+    pub aircraft_down: u64,
     /// Cover-plan repairs cut by the depth bound (`repair.max_depth`).
     pub plan_cuts: u64,
     /// Cover-plan messages sent by the lead Vidar.

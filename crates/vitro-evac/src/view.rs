@@ -232,6 +232,8 @@ pub fn metric_map(m: &super::Metrics) -> BTreeMap<String, f64> {
     out.insert("hvt_captured".into(), b(m.hvt_captured));
     out.insert("messages_sent".into(), m.messages_sent as f64);
     out.insert("plan_repairs".into(), m.plan_repairs as f64);
+    out.insert("vehicle_stalls".into(), m.vehicle_stalls as f64);
+    out.insert("aircraft_down".into(), m.aircraft_down as f64);
     out.insert("shots".into(), m.shots as f64);
     let patrol = [
         ("patrol_capture_probability", m.patrol_capture_probability),

@@ -60,6 +60,11 @@ pub enum Ev {
     Start,
     /// To an agent: its body reached the goal node of its last GoToNode / WalkToNode.
     Arrived(NodeId),
+    /// To an agent: its vehicle made no progress towards the goal node of its last
+    /// GoToNode for [`Steps::stall_after`] (stuck against a wall, on a slope, or unable to
+    /// turn): the trip is given up and the body stops where it is; a new GoToNode plans
+    /// again from there.
+    Stalled(NodeId),
     /// To an agent: its autopilot reached waypoint `i` of its current command.
     Waypoint(u32),
     /// To the environment: a node-level body reaches the next node of its trip.
@@ -70,7 +75,7 @@ pub enum Ev {
     Tick(Clock),
 }
 
-/// Step lengths of the clocks.
+/// Step lengths of the clocks, and how long a stuck vehicle keeps trying.
 #[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Steps {
     /// Interpolated vehicles and directed troopers.
@@ -81,16 +86,24 @@ pub struct Steps {
     pub flight: SimDuration,
     /// Sub-steps of the helicopter dynamics (and its inner control loops) per flight step.
     pub rotor_substeps: u32,
+    /// A rigid-body vehicle that gains less than [`STALL_PROGRESS_M`] along its trip for
+    /// this long gives the trip up ([`Ev::Stalled`]).
+    pub stall_after: SimDuration,
 }
 
+/// Progress along a trip that counts as moving on, metres.
+pub const STALL_PROGRESS_M: f64 = 1.0;
+
 impl Default for Steps {
-    /// 100 ms kinematic, 20 ms physics, 50 ms flight with 5 rotor sub-steps (10 ms).
+    /// 100 ms kinematic, 20 ms physics, 50 ms flight with 5 rotor sub-steps (10 ms); a
+    /// vehicle stalls after 30 s without progress.
     fn default() -> Self {
         Steps {
             kinematic: SimDuration::from_millis(100),
             physics: SimDuration::from_millis(20),
             flight: SimDuration::from_millis(50),
             rotor_substeps: 5,
+            stall_after: SimDuration::from_secs(30),
         }
     }
 }

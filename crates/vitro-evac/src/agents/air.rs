@@ -506,6 +506,11 @@ impl Controller for Ugv {
                 self.known.hear(env);
             }
             Input::Event(Ev::Arrived(_)) | Input::Timer(PLAN) => self.next(cx),
+            // Stuck on the way: a new goal later, planned from where it stands.
+            Input::Event(Ev::Stalled(_)) => {
+                self.goal = None;
+                cx.set_timer(SimDuration::from_secs(10), PLAN);
+            }
             Input::Timer(SENSE) => {
                 let seen = cx.sense(&Vision(self.brief.sensors.ground.vision()));
                 note_friends(&mut self.known, &seen, cx.now());

@@ -84,7 +84,19 @@ pub struct Commander {
     pub fallen: BTreeSet<EntityId>,
     /// The truck's blue-force tracker.
     beacon: Beacon,
+    /// Trips the truck gave up (stuck: no progress for the arena's stall time), all legs.
+    pub stalls: u32,
+    /// Trips given up on the current leg (the leg is tried again up to [`LEG_TRIES`]
+    /// times, then the truck stays where it is and says so).
+    leg_stalls: u32,
 }
+
+/// How many times the truck tries a leg it got stuck on.
+pub const LEG_TRIES: u32 = 3;
+/// Timer key: try the current leg again after a stall.
+const RETRY: u64 = 31;
+/// Pause before trying a leg again, seconds.
+const RETRY_S: u64 = 5;
 
 impl Commander {
     /// The commander of `brief`'s truck, driving at `drive`'s level.
@@ -108,6 +120,8 @@ impl Commander {
             squad: None,
             fallen: BTreeSet::new(),
             beacon,
+            stalls: 0,
+            leg_stalls: 0,
         }
     }
 
@@ -127,6 +141,18 @@ impl Commander {
     fn drive_leg(&mut self, cx: &mut Context<'_, Tactical>) {
         if let Some(&goal) = self.legs().get(self.leg) {
             self.refused = cx.act(&self.drive, goal).err();
+        }
+    }
+
+    /// The truck gave up its trip to `goal`: tries the leg again after a pause, up to
+    /// [`LEG_TRIES`] times; then it stays, and its intention says why.
+    fn on_stalled(&mut self, goal: NodeId, cx: &mut Context<'_, Tactical>) {
+        self.stalls += 1;
+        self.leg_stalls += 1;
+        if self.leg_stalls < LEG_TRIES {
+            cx.set_timer(SimDuration::from_secs(RETRY_S), RETRY);
+        } else {
+            self.refused = Some(MoveError::Stalled(cx.me(), goal));
         }
     }
 
@@ -502,8 +528,13 @@ impl Controller for Commander {
             }
             Input::Timer(Beacon::TIMER) => self.beacon.tick(cx),
             Input::Event(Ev::Arrived(n)) if self.legs().get(self.leg) == Some(n) => {
+                self.leg_stalls = 0;
                 self.on_arrived(cx);
             }
+            Input::Event(Ev::Stalled(n)) if self.legs().get(self.leg) == Some(n) => {
+                self.on_stalled(*n, cx);
+            }
+            Input::Timer(RETRY) => self.drive_leg(cx),
             Input::Timer(READY) if self.phase == Phase::Pickup => self.escort_back(cx),
             Input::Timer(SENSE) => self.on_sense(cx),
             Input::Message(env) => match &env.body {

@@ -24,6 +24,15 @@ pub enum MoveError {
     /// No route.
     #[error(transparent)]
     Route(#[from] RouteError),
+    /// The body gave its trip to the node up: no progress for the arena's
+    /// [`stall_after`](crate::arena::Steps::stall_after) ([`Ev::Stalled`]).
+    #[error("entity {0:?} stalled on its way to node {1:?}")]
+    Stalled(EntityId, NodeId),
+}
+
+/// Tells `who` it gave up its trip to `goal`, now (no progress: [`Ev::Stalled`]).
+pub(crate) fn stalled(who: EntityId, goal: NodeId, fx: &mut Effects<'_, Ev>) {
+    fx.schedule_in(SimDuration::ZERO, Target::Entity(who), Ev::Stalled(goal));
 }
 
 /// Tells `who` it reached `goal`, now.

@@ -32,8 +32,37 @@ pub fn tick_flight(w: &mut Arena, fx: &mut Effects<'_, Ev>) {
     let dt = w.steps.flight.as_secs_f64();
     ctol::step_all(w, dt, fx);
     vtol::step_all(w, dt, fx);
+    crash(w);
     let busy = !w.ctol.is_empty() || !w.vtol.is_empty();
     w.keep(Clock::Flight, busy, fx);
+}
+
+/// Aircraft at a continuous level whose body went below the ground crash: the body leaves
+/// the flight storages (its autopilot with it) and, if it has a condition, it is
+/// [`Status::Down`](crate::condition::Status::Down) — an outcome the mission's referee
+/// counts. In id order.
+fn crash(w: &mut Arena) {
+    let below = |p: [f64; 3]| w.site.ground([p[0], p[1]]).is_some_and(|g| p[2] < g);
+    let mut down: Vec<EntityId> = w
+        .ctol
+        .iter()
+        .filter(|(_, b)| below(b.pos))
+        .map(|(id, _)| id)
+        .collect();
+    down.extend(
+        w.vtol
+            .iter()
+            .filter(|(_, b)| below(b.pos))
+            .map(|(id, _)| id),
+    );
+    down.sort();
+    for id in down {
+        w.ctol.remove(id);
+        w.vtol.remove(id);
+        w.pilots.remove(id);
+        w.conditions
+            .update(id, |c| c.status = crate::condition::Status::Down);
+    }
 }
 
 /// The environment's side of a lattice maneuver: the aircraft reaches its next cell and

@@ -75,6 +75,11 @@ where
         match input {
             Input::Event(Ev::Start) => {}
             Input::Event(Ev::Arrived(n)) => self.log.push((cx.now(), *n)),
+            // The body gave the trip up: the controller stops and says why.
+            Input::Event(Ev::Stalled(n)) => {
+                self.error = Some(MoveError::Stalled(cx.me(), *n));
+                return;
+            }
             _ => return,
         }
         if self.route.is_empty() || (!self.repeat && self.next >= self.route.len()) {

@@ -4,8 +4,8 @@
 //! integral, with feed-forward of rolling resistance, drag and grade) that drive
 //! SteerAndAccelerate, which sets the wheels of the rigid body.
 
-use crate::actuate::{MoveError, arrived, plan};
-use crate::arena::{Arena, Clock, Ev};
+use crate::actuate::{MoveError, arrived, plan, stalled};
+use crate::arena::{Arena, Clock, Ev, STALL_PROGRESS_M};
 use crate::entity::discrete::NodeKind;
 use crate::entity::ground::interpolated::MoveCmd;
 use crate::entity::ground::physical::Controls;
@@ -145,7 +145,11 @@ impl Actuator<Arena, Ev> for GoToNode {
         if let Some(p) = w.physics.as_mut() {
             p.park(me, false);
         }
-        w.chassis.update(me, |r| r.parked = false);
+        let now = fx.now();
+        w.chassis.update(me, |r| {
+            r.parked = false;
+            r.progress = (0.0, now);
+        });
         w.follow.insert(
             me,
             Follow {
@@ -197,6 +201,25 @@ fn drive(w: &mut Arena, id: EntityId, fx: &mut Effects<'_, Ev>) {
     let node = tr.node_at(s).unwrap_or(row.node);
     let left = tr.length() - s;
     let v = row.speed;
+    let now = fx.now();
+    let (best, since) = row.progress;
+    if s > best + STALL_PROGRESS_M {
+        w.chassis.update(id, |r| r.progress = (s, now));
+    } else if left > STOP_WITHIN && now.saturating_since(since) >= w.steps.stall_after {
+        // No progress for too long: give the trip up, stop, and say so.
+        w.follow.remove(id);
+        w.chassis.update(id, |r| {
+            r.node = node;
+            r.integral = 0.0;
+        });
+        stalled(id, f.goal, fx);
+        let stop = MoveCmd {
+            toward: tr.point_at(s),
+            speed: 0.0,
+        };
+        let _ = MoveInDirection.actuate(w, id, stop, fx);
+        return;
+    }
     let cmd = if left <= STOP_WITHIN {
         if v.abs() < STOPPED {
             w.follow.remove(id);

@@ -80,6 +80,9 @@ pub struct Chassis {
     pub integral: f64,
     /// Parked: held in place (a fixed body) until the next trip.
     pub parked: bool,
+    /// The farthest distance along the current trip reached, metres, and when (the
+    /// physical GoToNode gives a trip up when it stops growing).
+    pub progress: (f64, vitro::time::SimTime),
 }
 
 impl Chassis {
@@ -240,6 +243,7 @@ impl Physics {
             ride_height: f64::from(ride),
             integral: 0.0,
             parked: false,
+            progress: (0.0, vitro::time::SimTime::ZERO),
         };
         self.read(id, &mut row);
         Ok(row)
