@@ -32,7 +32,7 @@ use vitro_tactical::behaviour::route::VisitNodes;
 use vitro_tactical::condition::{Condition, Role, Status};
 use vitro_tactical::entity::roads::{FreeGraph, Roads};
 use vitro_tactical::model::{Controller, Tactical};
-use vitro_tactical::scenario::{EntityType, ScenarioFile, Validated};
+use vitro_tactical::scenario::{EntityType, ScenarioFile, TieOrder, Validated};
 use vitro_tactical::types::{CtolKind, GroundKind, TroopKind, TypeBook, VtolKind};
 use vitro_tactical::world::Side;
 
@@ -275,6 +275,9 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, MissionError> {
 
     let arena = Arena::with(site.clone(), roads.clone(), Arc::new(ty.clone()));
     let mut sim = Simulation::<Tactical>::new(arena, seed);
+    if file.tie_order == TieOrder::Shuffled {
+        sim.shuffle_ties();
+    }
     let c = &file.channel;
     sim.network_mut().set_default_link(LinkParams {
         delay: SimDuration::from_secs_f64(c.delay_ms / 1e3),

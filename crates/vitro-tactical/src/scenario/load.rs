@@ -19,10 +19,11 @@ use toml::de::{DeTable, DeValue, ValueDeserializer};
 use vitro_site::site::Site;
 
 /// The keys of a scenario file's top level, in the order of [`ScenarioFile`]'s fields.
-pub const TOP_LEVEL_KEYS: [&str; 16] = [
+pub const TOP_LEVEL_KEYS: [&str; 17] = [
     "kind",
     "name",
     "seed",
+    "tie_order",
     "end",
     "site",
     "fidelity",

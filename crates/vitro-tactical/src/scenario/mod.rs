@@ -59,6 +59,11 @@ pub struct ScenarioFile {
     pub name: String,
     /// Master seed of every random stream of the run.
     pub seed: u64,
+    /// The order of events due at the same time: `"fifo"` (default: first scheduled, first
+    /// fired) or `"shuffled"` (a seeded random order, to check an outcome is not an artefact
+    /// of the order agents were added or woke).
+    #[serde(default)]
+    pub tie_order: TieOrder,
     /// When the run stops.
     pub end: EndSpec,
     /// The town and its terrain.
@@ -95,6 +100,17 @@ pub struct ScenarioFile {
     /// Sampling of the recording.
     #[serde(default)]
     pub record: RecordSpec,
+}
+
+/// The order of events due at the same time.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum TieOrder {
+    /// First scheduled, first fired.
+    #[default]
+    Fifo,
+    /// A seeded random order ([`vitro::sim::Simulation::shuffle_ties`]).
+    Shuffled,
 }
 
 /// The end condition.

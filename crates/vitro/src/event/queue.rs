@@ -48,6 +48,8 @@ mod radix;
 use crate::time::SimTime;
 use calendar::Calendar;
 use radix::{Entry, InvalidState};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 /// Handle of a scheduled event: its scheduling sequence number and its storage slot.
@@ -135,6 +137,17 @@ pub struct EventQueue<T> {
     free_head: u32,
     /// Number of pending events (occupied slots).
     pending: usize,
+    /// Shuffled ties: the generator and the rest of the current batch of equal-time events
+    /// (fired from the end); `None`: first pushed, first out.
+    ties: Option<Box<Ties>>,
+}
+
+/// The state of shuffled ties ([`EventQueue::shuffle_ties`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+struct Ties {
+    rng: ChaCha8Rng,
+    /// The current batch, in reverse firing order (cancelled entries are skipped).
+    batch: Vec<Entry>,
 }
 
 impl<T: Serialize> Serialize for EventQueue<T> {
@@ -147,12 +160,22 @@ impl<T: Serialize> Serialize for EventQueue<T> {
             .copied()
             .collect();
         events.sort_unstable_by_key(Entry::key);
-        let mut st = s.serialize_struct("EventQueue", 5)?;
+        let ties = self.ties.as_ref().map(|t| Ties {
+            rng: t.rng.clone(),
+            batch: t
+                .batch
+                .iter()
+                .filter(|e| is_live(&self.slots, e))
+                .copied()
+                .collect(),
+        });
+        let mut st = s.serialize_struct("EventQueue", 6)?;
         st.serialize_field("now", &self.now)?;
         st.serialize_field("next_seq", &self.next_seq)?;
         st.serialize_field("events", &events)?;
         st.serialize_field("slots", &self.slots)?;
         st.serialize_field("free_head", &self.free_head)?;
+        st.serialize_field("ties", &ties)?;
         st.end()
     }
 }
@@ -165,6 +188,7 @@ struct QueueState<T> {
     events: Vec<Entry>,
     slots: Vec<Slot<T>>,
     free_head: u32,
+    ties: Option<Ties>,
 }
 
 impl<T> TryFrom<QueueState<T>> for EventQueue<T> {
@@ -185,6 +209,15 @@ impl<T> TryFrom<QueueState<T>> for EventQueue<T> {
                 return Err(InvalidState("event does not match its slot"));
             }
             heap.push(e, s.now.as_nanos());
+        }
+        // The current batch of shuffled ties: at the current time, each its slot's event.
+        for e in s.ties.iter().flat_map(|t| &t.batch) {
+            if e.time != s.now.as_nanos() || e.seq >= s.next_seq {
+                return Err(InvalidState("tied event out of range"));
+            }
+            if !is_live(&s.slots, e) || std::mem::replace(&mut covered[e.slot as usize], true) {
+                return Err(InvalidState("tied event does not match its slot"));
+            }
         }
         // Every pending slot has its event; the free list links exactly the free slots.
         let mut free = 0;
@@ -213,13 +246,15 @@ impl<T> TryFrom<QueueState<T>> for EventQueue<T> {
         if count != free {
             return Err(InvalidState("free slot missing from the free list"));
         }
+        let batch = s.ties.as_ref().map_or(0, |t| t.batch.len());
         Ok(EventQueue {
             now: s.now,
             next_seq: s.next_seq,
-            pending: heap.len(),
+            pending: heap.len() + batch,
             heap,
             slots: s.slots,
             free_head: s.free_head,
+            ties: s.ties.map(Box::new),
         })
     }
 }
@@ -245,7 +280,42 @@ impl<T> EventQueue<T> {
             slots: Vec::with_capacity(n),
             free_head: NO_FREE,
             pending: 0,
+            ties: None,
         }
+    }
+
+    /// From now on, events due at the same time fire in a random order drawn from a
+    /// generator seeded with `seed` (instead of first pushed, first out): each time the queue
+    /// reaches a new batch of equal-time events it shuffles the whole batch; events pushed
+    /// for the current time while a batch fires make the next batch. A check that an outcome
+    /// is not an artefact of the order agents were registered or scheduled in (MASON's
+    /// shuffled ordering).
+    ///
+    /// ```
+    /// use vitro::event::EventQueue;
+    /// use vitro::time::SimTime;
+    /// let order = |seed| {
+    ///     let mut q = EventQueue::new();
+    ///     q.shuffle_ties(seed);
+    ///     for i in 0..8 { q.push(SimTime::from_secs(1), i).unwrap(); }
+    ///     q.push(SimTime::from_secs(2), 8).unwrap();
+    ///     std::iter::from_fn(|| q.pop().map(|p| p.payload)).collect::<Vec<_>>()
+    /// };
+    /// let a = order(1);
+    /// assert_eq!(a, order(1));                  // the same seed, the same order
+    /// assert_ne!(a[..8], [0, 1, 2, 3, 4, 5, 6, 7]); // not the push order
+    /// assert_eq!(a[8], 8);                      // later events still fire later
+    /// ```
+    pub fn shuffle_ties(&mut self, seed: u64) {
+        self.ties = Some(Box::new(Ties {
+            rng: ChaCha8Rng::seed_from_u64(seed),
+            batch: Vec::new(),
+        }));
+    }
+
+    /// True if equal-time events fire in a shuffled order ([`shuffle_ties`](Self::shuffle_ties)).
+    pub fn ties_shuffled(&self) -> bool {
+        self.ties.is_some()
     }
 
     /// The time of the last popped event (the queue's current time).
@@ -347,16 +417,56 @@ impl<T> EventQueue<T> {
     /// The time of the earliest pending event.
     #[inline]
     pub fn peek_time(&mut self) -> Option<SimTime> {
+        if let Some(t) = &mut self.ties {
+            let slots = &self.slots;
+            while t.batch.last().is_some_and(|e| !is_live(slots, e)) {
+                t.batch.pop();
+            }
+            if !t.batch.is_empty() {
+                return Some(self.now);
+            }
+        }
         let slots = &self.slots;
         let e = self.heap.peek(|e| is_live(slots, e))?;
         Some(SimTime::from_nanos(e.time))
     }
 
+    /// The next entry of the batch of shuffled ties, making a new batch (every live entry
+    /// at the earliest time, shuffled) when the last is done.
+    fn next_tied(&mut self) -> Option<Entry> {
+        self.peek_time()?;
+        let Some(ties) = self.ties.as_mut() else {
+            return self.heap.pop_peeked();
+        };
+        if ties.batch.is_empty() {
+            let first = self.heap.pop_peeked()?;
+            ties.batch.push(first);
+            loop {
+                let slots = &self.slots;
+                match self.heap.peek(|e| is_live(slots, e)) {
+                    Some(e) if e.time == first.time => {}
+                    _ => break,
+                }
+                ties.batch.extend(self.heap.pop_peeked());
+            }
+            // Fisher-Yates, from the end (the batch fires from its end).
+            for i in (1..ties.batch.len()).rev() {
+                let j = ties.rng.random_range(0..=i);
+                ties.batch.swap(i, j);
+            }
+        }
+        ties.batch.pop()
+    }
+
     /// Removes the earliest pending event and advances [`now`](Self::now) to its time.
     #[inline]
     pub fn pop(&mut self) -> Option<Popped<T>> {
-        self.peek_time()?;
-        let e = self.heap.pop_peeked()?;
+        let e = if self.ties.is_some() {
+            self.next_tied()?
+        } else {
+            self.peek_time()?;
+            self.heap.pop_peeked()?
+        };
         let Slot::Pending { seq, payload } = self.free(e.slot) else {
             unreachable!("a live entry's slot is pending")
         };

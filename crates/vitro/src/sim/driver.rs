@@ -173,6 +173,16 @@ impl<M: Model> Simulation<M> {
     pub fn set_trace_payloads(&mut self, on: bool) {
         self.k.trace_payloads = on;
     }
+    /// From now on, events due at the same time fire in a seeded random order instead of
+    /// first scheduled, first fired ([`EventQueue::shuffle_ties`](crate::event::EventQueue::shuffle_ties);
+    /// the generator is seeded from the run's own `"tie_order"` stream, so the same seed
+    /// gives the same order): a check that an outcome is not an artefact of the order in
+    /// which agents were added or woke.
+    pub fn shuffle_ties(&mut self) {
+        use rand::Rng;
+        let seed = self.k.rngs.stream(Owner::Global, "tie_order").random();
+        self.k.queue.shuffle_ties(seed);
+    }
 
     /// Schedules an event from outside (set-up, experimenter).
     pub fn schedule(

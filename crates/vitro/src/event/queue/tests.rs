@@ -277,7 +277,7 @@ fn serde_round_trip_continues_identically() {
     }
 }
 
-type State = (SimTime, u64, Vec<Entry>, Vec<Slot<u32>>, u32);
+type State = (SimTime, u64, Vec<Entry>, Vec<Slot<u32>>, u32, Option<Ties>);
 
 fn decode(state: &State) -> Result<EventQueue<u32>, postcard::Error> {
     postcard::from_bytes(&postcard::to_stdvec(state).unwrap())
@@ -302,6 +302,7 @@ fn serialized_form_is_canonical() {
             Slot::Pending { seq: 1, payload: 2 },
         ],
         0,
+        None,
     );
     // The stale entry of the cancelled event is not written.
     let bytes = postcard::to_stdvec(&q).unwrap();
@@ -326,6 +327,7 @@ fn corrupt_state_is_refused() {
             Slot::Pending { seq: 1, payload: 2 },
         ],
         0,
+        None,
     );
     assert!(decode(&good).is_ok());
     let bad = |f: &dyn Fn(&mut State)| {
@@ -345,4 +347,74 @@ fn corrupt_state_is_refused() {
     );
     assert!(bad(&|s| s.1 = 1), "sequence number not issued yet");
     assert!(bad(&|s| s.0 = SimTime::from_secs(3)), "event before now");
+}
+
+/// The payloads of `q` in firing order.
+fn drain(q: &mut EventQueue<u32>) -> Vec<u32> {
+    std::iter::from_fn(|| q.pop().map(|p| p.payload)).collect()
+}
+
+#[test]
+fn shuffled_ties_fire_every_event_once_in_a_seeded_order() {
+    let make = |seed: u64| {
+        let mut q = EventQueue::new();
+        q.shuffle_ties(seed);
+        for i in 0..20 {
+            q.push(SimTime::from_secs(1 + u64::from(i) / 10), i)
+                .unwrap();
+        }
+        q
+    };
+    let a = drain(&mut make(3));
+    assert_eq!(a, drain(&mut make(3)));
+    assert_ne!(a, drain(&mut make(4)));
+    // Each time's batch is a permutation of its events, and the times keep their order.
+    let mut first: Vec<u32> = a[..10].to_vec();
+    first.sort();
+    assert_eq!(first, (0..10).collect::<Vec<_>>());
+    assert!(a[10..].iter().all(|&x| x >= 10));
+    assert_ne!(a[..10], (0..10).collect::<Vec<_>>()[..]);
+}
+
+#[test]
+fn shuffled_ties_honour_cancels_and_later_pushes() {
+    let mut q = EventQueue::new();
+    q.shuffle_ties(9);
+    let ids: Vec<EventId> = (0..6)
+        .map(|i| q.push(SimTime::from_secs(1), i).unwrap())
+        .collect();
+    let first = q.pop().unwrap();
+    // Cancelling an event of the batch being fired: it never fires.
+    let victim = ids.iter().copied().find(|&id| id != first.id).unwrap();
+    assert!(q.cancel(victim));
+    assert!(!q.is_pending(victim));
+    // An event pushed for the current time fires after the rest of the batch.
+    q.push(SimTime::from_secs(1), 99).unwrap();
+    let rest = drain(&mut q);
+    assert_eq!(rest.len(), 5, "{rest:?}");
+    assert_eq!(rest.last(), Some(&99));
+    let victim_payload: u32 = ids
+        .iter()
+        .zip(0..)
+        .find(|(id, _)| **id == victim)
+        .unwrap()
+        .1;
+    assert!(!rest.contains(&victim_payload) && first.payload != victim_payload);
+    assert_eq!(q.len(), 0);
+}
+
+#[test]
+fn a_queue_saved_inside_a_batch_of_ties_goes_on_the_same() {
+    let mut q = EventQueue::new();
+    q.shuffle_ties(5);
+    for i in 0..12 {
+        q.push(SimTime::from_secs(1 + u64::from(i) % 3), i).unwrap();
+    }
+    for _ in 0..2 {
+        q.pop();
+    }
+    let bytes = postcard::to_stdvec(&q).unwrap();
+    let mut r: EventQueue<u32> = postcard::from_bytes(&bytes).unwrap();
+    assert_eq!(r.len(), q.len());
+    assert_eq!(drain(&mut r), drain(&mut q));
 }
