@@ -37,12 +37,18 @@ pub fn tick_flight(w: &mut Arena, fx: &mut Effects<'_, Ev>) {
     w.keep(Clock::Flight, busy, fx);
 }
 
-/// Aircraft at a continuous level whose body went below the ground crash: the body leaves
-/// the flight storages (its autopilot with it) and, if it has a condition, it is
-/// [`Status::Down`](crate::condition::Status::Down) — an outcome the mission's referee
-/// counts. In id order.
+/// How far above an aircraft a roof is looked for, metres.
+const ROOF_SEARCH_M: f64 = 300.0;
+
+/// Aircraft at a continuous level whose body went below the ground or into a building (a
+/// roof right above it) crash: the body leaves the flight storages (its autopilot with it)
+/// and, if it has a condition, it is [`Status::Down`](crate::condition::Status::Down) —
+/// an outcome the mission's referee counts. In id order.
 fn crash(w: &mut Arena) {
-    let below = |p: [f64; 3]| w.site.ground([p[0], p[1]]).is_some_and(|g| p[2] < g);
+    let below = |p: [f64; 3]| {
+        w.site.ground([p[0], p[1]]).is_some_and(|g| p[2] < g)
+            || !w.site.los.visible(p, [p[0], p[1], p[2] + ROOF_SEARCH_M])
+    };
     let mut down: Vec<EntityId> = w
         .ctol
         .iter()
