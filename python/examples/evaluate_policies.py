@@ -4,9 +4,9 @@ mean returns (the team reward summed over an episode, averaged over episodes).
     pip install ./python
     python python/examples/evaluate_policies.py [--episodes 3] [--until 900]
 
-The scripted policy sends every driven unit ahead of the convoy along the briefed route:
-the UGV to the next junction beyond the one it reached, the helicopters two legs further,
-so the drones cover the team and the sensors find adversaries before the truck meets them.
+The scripted policy uses only the briefing and what each unit senses: helicopters wait over
+the places where the team will be (the safehouse; the start, then the extraction point),
+the UGV and the Skeldar sweep the route.
 """
 import argparse
 from pathlib import Path
@@ -19,18 +19,27 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def scripted_policy(env):
-    """Each unit goes to the target after the one it is at (helicopters two further)."""
+    """Briefed places and the route, no peeking: one helicopter waits over the safehouse
+    (where the team spends longest, fetching the VIP on foot), another over the start and,
+    after the first ten minutes, over the extraction point; the rest (the UGV, the Skeldar)
+    sweep the route ahead, one target further each time they arrive."""
     n = len(env.targets)
-    targets = np.asarray([t[:2] for t in env.targets])
+    p = env.places
+    sweepers = [a for a in env.possible_agents if a not in ("vidar-1", "vidar-2")]
 
     def act(agent, obs):
         if not obs["active"]:
             return 0
-        here = int(np.argmin(np.linalg.norm(targets - obs["position"], axis=1)))
-        ahead = 1 if agent.startswith("mdars") else 2
-        if obs["goal"] and not obs["arrived"]:
-            return int(obs["goal"])  # keep going
-        return 1 + min(here + ahead, n - 1)
+        if agent == "vidar-1":
+            return p["safehouse"]
+        if agent == "vidar-2":
+            return p["start"] if obs["time"][0] < 600 else p["extraction"]
+        goal = int(obs["goal"])
+        if goal == 0:
+            return 1 + sweepers.index(agent) % n
+        if obs["arrived"]:
+            return 1 + goal % n  # the next target along the route, then round again
+        return goal
 
     return act
 

@@ -156,6 +156,12 @@ impl EvacSim {
         self.targets.iter().map(|p| (p[0], p[1], p[2])).collect()
     }
 
+    /// The target indices of the start, the safehouse and the extraction point.
+    fn places(&self) -> (usize, usize, usize) {
+        let [a, b, c] = vitro_evac::external::places(&self.mission.brief);
+        (a, b, c)
+    }
+
     /// The simulated time now, seconds.
     fn now(&self) -> f64 {
         self.mission.sim.now().as_secs_f64()

@@ -115,6 +115,11 @@ class EvacuationEnv(ParallelEnv):
         self.agents = []
         #: The targets' world points (x, y, z), in action order (action 1 + i is target i).
         self.targets = list(self._sim.targets())
+        #: The actions that go to the briefed places: ``{"start": a, "safehouse": b,
+        #: "extraction": c}``.
+        self.places = {
+            name: 1 + i for name, i in zip(("start", "safehouse", "extraction"), self._sim.places())
+        }
         k, big = max_contacts, np.float32(np.inf)
         n = len(self.targets)
         self._obs_space = spaces.Dict(

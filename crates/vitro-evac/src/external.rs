@@ -124,6 +124,18 @@ pub fn targets(brief: &Brief) -> Vec<NodeId> {
     out
 }
 
+/// The indices in [`targets`] of the briefed places: the start, the safehouse (the end of
+/// the last leg out) and the extraction point (the end of the last leg back).
+pub fn places(brief: &Brief) -> [usize; 3] {
+    let t = targets(brief);
+    let at = |n: Option<&NodeId>| n.and_then(|n| t.iter().position(|m| m == n)).unwrap_or(0);
+    [
+        at(brief.route.first()),
+        at(brief.legs_out.last()),
+        at(brief.legs_back.last()),
+    ]
+}
+
 /// The world points of [`targets`] (on the ground), in the same order.
 pub fn target_points(brief: &Brief) -> Vec<[f64; 3]> {
     targets(brief)
