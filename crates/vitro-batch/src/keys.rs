@@ -91,3 +91,25 @@ pub(crate) fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) 
         }
     }
 }
+
+/// Sets the scenario key at dotted `path` (`channel.loss`, `entity.4.count`) to `value`, as
+/// an experiment's parameter does: the scenario must already hold a scalar there.
+///
+/// ```
+/// let mut s: toml::Table = toml::from_str("[channel]\nloss = 0.1\n").unwrap();
+/// vitro_batch::set_scenario_key(&mut s, "channel.loss", toml::Value::Float(0.5)).unwrap();
+/// assert_eq!(s["channel"]["loss"].as_float(), Some(0.5));
+/// assert!(vitro_batch::set_scenario_key(&mut s, "channel.los", 1.into()).is_err());
+/// ```
+///
+/// # Errors
+/// Why the key cannot be set (unknown, a table, not a scalar), listing the keys there.
+pub fn set_scenario_key(
+    table: &mut toml::Table,
+    path: &str,
+    value: toml::Value,
+) -> Result<(), String> {
+    scenario_kind(table, path)?;
+    set_path(table, path, value);
+    Ok(())
+}

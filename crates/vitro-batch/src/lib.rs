@@ -95,6 +95,7 @@ mod write_file;
 
 pub use exec::{BatchError, BatchOptions, BatchReport, Progress, run_batch};
 pub use experiment::{Experiment, ExperimentError, experiment_schema};
+pub use keys::set_scenario_key;
 pub use merge::{MergeError, MergeReport, merge};
 pub use runner::{Keep, RunOutput, RunSettings, Runner, SeriesRow};
 pub use value::Value;

@@ -8,23 +8,20 @@
 //! vitro plot DIR --out PLOTS [--metric M]... [--hist M]... [--success M]
 //! ```
 
-mod plugin_runner;
 mod slurm;
 
 use crate::Failure;
 use anyhow::anyhow;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use plugin_runner::NoMission;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use vitro_batch::Runner;
 use vitro_batch::design::Shard;
 use vitro_batch::journal::Status;
 use vitro_batch::plot::{PlotOptions, plot_dir};
-use vitro_batch::shard_env::shard_from_env;
-use vitro_batch::{BatchOptions, Experiment, ExperimentError, experiment_schema, merge, run_batch};
-use vitro_mission::batch::MissionRunner;
+use vitro_batch::{BatchOptions, Experiment, experiment_schema, merge, run_batch};
+pub(crate) use vitro_tools::runner_for;
 
 /// Arguments of `vitro batch`.
 #[derive(Debug, Args)]
@@ -96,24 +93,6 @@ pub(crate) struct PlotArgs {
     success: Option<String>,
 }
 
-/// The runner for the scenario `experiment` names: its mission's, looked up by the
-/// scenario's `kind`. When there is none (no scenario, an unreadable one, no or an unknown
-/// kind) the runner says why, and loading the experiment reports it at its place.
-pub(crate) fn runner_for(experiment: &std::path::Path) -> Box<dyn Runner> {
-    let scenario = std::fs::read_to_string(experiment)
-        .ok()
-        .and_then(|t| t.parse::<toml::Table>().ok())
-        .and_then(|t| t.get("scenario")?.as_str().map(str::to_owned));
-    let dir = experiment.parent().unwrap_or(std::path::Path::new(""));
-    let Some(path) = scenario.map(|s| dir.join(s)) else {
-        return Box::new(NoMission("the experiment names no scenario file".into()));
-    };
-    match crate::missions::registry().read(&path) {
-        Ok((mission, _)) => Box::new(MissionRunner { mission, path }),
-        Err(e) => Box::new(NoMission(e.to_string())),
-    }
-}
-
 pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
     if args.print_schema {
         print!("{}", experiment_schema());
@@ -128,14 +107,7 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
         return slurm_script(args, path, out);
     }
     // Without --shard, a task of a Slurm job array or a Kubernetes Indexed Job makes its share.
-    let (shard, shard_from) = match args.shard {
-        Some(s) => (Some(s), Some("--shard".to_string())),
-        None => match shard_from_env(|k| std::env::var(k).ok()) {
-            Ok(Some((s, from))) => (Some(s), Some(from)),
-            Ok(None) => (None, None),
-            Err(e) => return Err(Failure::Input(anyhow!("no shard for this task: {e}"))),
-        },
-    };
+    let (shard, shard_from) = vitro_tools::shard_for(args.shard)?.unzip();
     let runner = runner_for(path);
     let runner: &dyn Runner = runner.as_ref();
     let exp = load(path, runner)?;
@@ -187,13 +159,7 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
         }
         bar.inc(1);
     })
-    .map_err(|e| {
-        if e.is_input() {
-            Failure::Input(e.into())
-        } else {
-            Failure::Runtime(e.into())
-        }
-    })?;
+    .map_err(vitro_tools::batch_error)?;
     bar.finish_and_clear();
 
     if report.torn_dropped {
@@ -235,12 +201,7 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<(), Failure> {
 
 /// Loads the experiment at `path`; any problem is bad input.
 pub(crate) fn load(path: &std::path::Path, runner: &dyn Runner) -> Result<Experiment, Failure> {
-    Experiment::load(path, runner).map_err(|e| match e {
-        ExperimentError::Invalid(l) => {
-            Failure::Input(anyhow::Error::new(*l).context("invalid experiment"))
-        }
-        e => Failure::Input(e.into()),
-    })
+    Ok(vitro_tools::load_experiment(path, runner)?)
 }
 
 /// Worker threads: `--jobs`, else the number of CPUs.
@@ -293,12 +254,7 @@ pub(crate) fn fail_on_failed_runs(failed: &[(u64, String)], total: u64) -> Resul
             failed.len() - 20
         );
     }
-    let ids: Vec<String> = failed.iter().map(|(r, _)| r.to_string()).collect();
-    Err(Failure::Runtime(anyhow!(
-        "{} of {total} runs failed: {}",
-        failed.len(),
-        ids.join(", ")
-    )))
+    vitro_tools::failed_runs(failed, total).map_or(Ok(()), |e| Err(e.into()))
 }
 
 /// A bar on stderr when it is a terminal, else a hidden one.

@@ -10,3 +10,12 @@ pub(crate) enum Failure {
     /// The work ran but its answer is a failure (no plan, a check failed): exit 4.
     Check(anyhow::Error),
 }
+
+impl From<vitro_tools::ToolError> for Failure {
+    fn from(e: vitro_tools::ToolError) -> Failure {
+        match e {
+            vitro_tools::ToolError::Input(m) => Failure::Input(anyhow::anyhow!(m)),
+            vitro_tools::ToolError::Runtime(m) => Failure::Runtime(anyhow::anyhow!(m)),
+        }
+    }
+}

@@ -5,15 +5,10 @@ use crate::Failure;
 use crate::missions::{failure, registry};
 use crate::record::Recording;
 use crate::run_args::RunArgs;
-use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::time::Instant;
-use vitro::time::{SimDuration, SimTime};
 use vitro_mission::{BuildOptions, Run};
-
-/// The longest run `--until` accepts, simulated seconds.
-const MAX_UNTIL_S: f64 = 1.0e6;
 
 pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
     let options = BuildOptions {
@@ -24,18 +19,12 @@ pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
         .build(&args.scenario, &options)
         .map_err(|e| failure(&args.scenario, e))?;
     if let Some(until) = args.until {
-        if !(until > 0.0 && until <= MAX_UNTIL_S) {
-            return Err(Failure::Input(anyhow::anyhow!(
-                "--until {until}: expected a number of simulated seconds in (0, {MAX_UNTIL_S:e}]"
-            )));
-        }
-        run.set_end(run.end().min(SimTime::from_secs_f64(until)));
+        vitro_tools::set_until(run.as_mut(), until)?;
     }
     if let Some(speed) = args.speed {
         run.control()
             .set_speed(speed)
-            .context("--speed")
-            .map_err(Failure::Input)?;
+            .map_err(|e| Failure::Input(anyhow::Error::new(e).context("--speed")))?;
     }
     let chatty = !args.quiet && !args.json;
     if chatty {
@@ -63,16 +52,14 @@ pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
         None => None,
     };
     let started = Instant::now();
-    let chunk = run.sample().max(SimDuration::from_secs(1));
-    let mut t = SimTime::ZERO;
-    loop {
-        t += chunk;
-        let going = run
-            .advance(t.min(run.end()))
-            .with_context(|| format!("running {}", args.scenario.display()))
-            .map_err(Failure::Runtime)?;
+    let running = |e| {
+        Failure::Runtime(
+            anyhow::Error::new(e).context(format!("running {}", args.scenario.display())),
+        )
+    };
+    vitro_tools::drive(run.as_mut(), running, |run| {
         if let Some(r) = recorder.as_mut() {
-            r.frame(run.as_mut()).map_err(Failure::Runtime)?;
+            r.frame(run).map_err(Failure::Runtime)?;
         }
         let log = run.drain_log();
         if args.verbose {
@@ -84,10 +71,8 @@ pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
             b.set_position(run.now().as_secs_f64() as u64);
             b.set_message(format!("{} events", run.control().events_fired()));
         }
-        if !going || t >= run.end() {
-            break;
-        }
-    }
+        Ok(())
+    })?;
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -95,11 +80,10 @@ pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
         r.finish().map_err(Failure::Runtime)?;
     }
     let wall = started.elapsed().as_secs_f64();
-    let report = report(run.as_ref(), wall, args.speed);
+    let report = vitro_tools::report(run.as_ref(), wall, args.speed);
     if args.json {
         let line = serde_json::to_string(&report)
-            .context("encoding the report")
-            .map_err(Failure::Runtime)?;
+            .map_err(|e| Failure::Runtime(anyhow::Error::new(e).context("encoding the report")))?;
         println!("{line}");
     } else if args.quiet {
         println!("{:016x}", run.trace_hash());
@@ -108,28 +92,6 @@ pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
     }
     run.verdict()
         .map_err(|why| Failure::Check(anyhow::anyhow!(why)))
-}
-
-/// What `vitro run --json` prints: the run's own fields, then the scenario, the seed, the
-/// trace hash and the wall-clock figures.
-fn report(run: &dyn Run, wall: f64, speed: Option<f64>) -> serde_json::Value {
-    let per_wall = |x: f64| if wall > 0.0 { x / wall } else { 0.0 };
-    let events = run.control().events_fired();
-    let sim_s = run.now().as_secs_f64();
-    let mut out = run.report();
-    out.entry("scenario").or_insert_with(|| run.name().into());
-    out.insert("seed".into(), run.seed().into());
-    out.insert("events".into(), events.into());
-    out.entry("sim_time_s").or_insert_with(|| sim_s.into());
-    out.insert(
-        "trace_hash".into(),
-        format!("{:016x}", run.trace_hash()).into(),
-    );
-    out.insert("wall_time_s".into(), wall.into());
-    out.insert("events_per_wall_s".into(), per_wall(events as f64).into());
-    out.insert("sim_s_per_wall_s".into(), per_wall(sim_s).into());
-    out.insert("speed".into(), speed.into());
-    out.into()
 }
 
 /// The human summary: the scenario, the mission's own lines, the time and the trace hash.

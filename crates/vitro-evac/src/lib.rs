@@ -25,6 +25,7 @@ pub mod act;
 pub mod agents;
 pub mod brief;
 mod error;
+pub mod external;
 mod member;
 mod plugin;
 pub mod referee;
@@ -35,7 +36,7 @@ pub mod view;
 use brief::Brief;
 pub use error::MissionError;
 pub use member::Member;
-pub use plugin::Evacuation;
+pub use plugin::{Evacuation, mission_error, validated};
 use referee::{Metrics, Referee};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -104,11 +105,49 @@ impl Mission {
 
     /// Builds the mission of a validated scenario with its seed, or `seed`.
     pub fn build(v: Validated, seed: Option<u64>) -> Result<Mission, MissionError> {
+        Mission::build_with(v, seed, None)
+    }
+
+    /// Builds the mission of `v` with its seed, or `seed`, the units named in `units` driven
+    /// from outside ([`external`]): each must be a [`controllable`](external::controllable)
+    /// unit of the scenario ([`Mission::controllable`] lists them). Returns the mission and
+    /// the desk where the units' knowledge is read and their commands left.
+    pub fn build_external(
+        v: Validated,
+        seed: Option<u64>,
+        units: &[String],
+    ) -> Result<(Mission, external::SharedDesk), MissionError> {
+        let can = Mission::controllable(&v);
+        if let Some(bad) = units.iter().find(|u| !can.contains(u)) {
+            return Err(MissionError::Setup(format!(
+                "{bad:?} cannot be driven from outside (the scenario's controllable units: {})",
+                can.join(", ")
+            )));
+        }
+        let desk = external::SharedDesk::default();
+        let mission = Mission::build_with(v, seed, Some((units, &desk)))?;
+        Ok((mission, desk))
+    }
+
+    /// The names of the scenario's units that may be driven from outside, in id order.
+    pub fn controllable(v: &Validated) -> Vec<String> {
+        setup::roster(&v.loaded.file)
+            .into_iter()
+            .filter(external::controllable)
+            .map(|m| m.name)
+            .collect()
+    }
+
+    fn build_with(
+        v: Validated,
+        seed: Option<u64>,
+        external: Option<(&[String], &external::SharedDesk)>,
+    ) -> Result<Mission, MissionError> {
         let name = v.loaded.file.name.clone();
         let seed = seed.unwrap_or(v.loaded.file.seed);
         let end = SimTime::from_secs_f64(v.loaded.file.end.time_s);
         let sample = SimDuration::from_secs_f64(v.loaded.file.record.sample_s.max(0.01));
-        let built = setup::build(v, seed)?;
+        let built = setup::build(v, seed, external)?;
         let names: BTreeMap<EntityId, String> = built
             .members
             .iter()

@@ -8,7 +8,7 @@ use vitro::sim::Control;
 use vitro::time::{SimDuration, SimTime};
 use vitro_mission::{BuildOptions, Metric, Run, RunFailed};
 use vitro_record::{Frame, Scene};
-use vitro_tactical::scenario::{Diagnostics, FidelitySpec, Preset, ScenarioFile};
+use vitro_tactical::scenario::{Diagnostics, FidelitySpec, Preset, ScenarioFile, Validated};
 
 /// The evacuation mission, registered as `kind = "evacuation"`.
 #[derive(Clone, Copy, Debug, Default)]
@@ -24,7 +24,39 @@ fn diagnostics(d: Diagnostics) -> vitro_mission::MissionError {
     vitro_mission::MissionError::Scenario(format!("{n} {problems}\n{}", d.render()))
 }
 
-fn mission_error(e: MissionError) -> vitro_mission::MissionError {
+/// The scenario text read from `path`, validated, every entity type at the levels of the
+/// `fidelity` preset if one is named (one of `discrete`, `interpolated`, `physical`).
+///
+/// # Errors
+/// Every problem of the scenario (file, line, column), or an unknown preset.
+pub fn validated(
+    path: &Path,
+    text: &str,
+    fidelity: Option<&str>,
+) -> Result<Validated, vitro_mission::MissionError> {
+    let mut v = ScenarioFile::validate_text(path, text).map_err(diagnostics)?;
+    if let Some(level) = fidelity {
+        let level = match level {
+            "discrete" => Preset::Discrete,
+            "interpolated" => Preset::Interpolated,
+            "physical" => Preset::Physical,
+            other => {
+                return Err(vitro_mission::MissionError::Scenario(format!(
+                    "--fidelity {other}: expected one of {}",
+                    LEVELS.join(", ")
+                )));
+            }
+        };
+        v.loaded.file.fidelity = FidelitySpec {
+            level,
+            ..FidelitySpec::default()
+        };
+    }
+    Ok(v)
+}
+
+/// A mission that could not be built as the plug-in's error.
+pub fn mission_error(e: MissionError) -> vitro_mission::MissionError {
     match e {
         MissionError::Scenario(d) => diagnostics(d),
         MissionError::Setup(_) => vitro_mission::MissionError::Setup(e.to_string()),
@@ -69,24 +101,7 @@ impl vitro_mission::Mission for Evacuation {
         text: &str,
         options: &BuildOptions,
     ) -> Result<Box<dyn Run>, vitro_mission::MissionError> {
-        let mut v = ScenarioFile::validate_text(path, text).map_err(diagnostics)?;
-        if let Some(level) = options.fidelity.as_deref() {
-            let level = match level {
-                "discrete" => Preset::Discrete,
-                "interpolated" => Preset::Interpolated,
-                "physical" => Preset::Physical,
-                other => {
-                    return Err(vitro_mission::MissionError::Scenario(format!(
-                        "--fidelity {other}: expected one of {}",
-                        LEVELS.join(", ")
-                    )));
-                }
-            };
-            v.loaded.file.fidelity = FidelitySpec {
-                level,
-                ..FidelitySpec::default()
-            };
-        }
+        let v = validated(path, text, options.fidelity.as_deref())?;
         let mission = Mission::build(v, options.seed).map_err(mission_error)?;
         Ok(Box::new(mission))
     }

@@ -10,6 +10,7 @@ use super::agents::red::{Adversary, Hvt};
 use super::agents::trooper::Trooper;
 use super::brief::{Brief, FormationBrief};
 use crate::error::MissionError;
+use crate::external::{External, SharedDesk};
 use crate::member::Member;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -71,7 +72,7 @@ fn height_of(role: Role) -> f64 {
 }
 
 /// Every entity the file asks for, in file order (counts expanded), with its id.
-fn roster(file: &ScenarioFile) -> Vec<Member> {
+pub(crate) fn roster(file: &ScenarioFile) -> Vec<Member> {
     let mut out = Vec::new();
     for e in &file.entities {
         for i in 0..e.count.max(1) {
@@ -196,8 +197,13 @@ pub(crate) struct Built {
     pub members: Vec<Member>,
 }
 
-/// Builds the simulation of `v` with `seed`.
-pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, MissionError> {
+/// Builds the simulation of `v` with `seed`; the units `external` names get an external
+/// controller meeting at its desk instead of their own.
+pub(crate) fn build(
+    v: Validated,
+    seed: u64,
+    external: Option<(&[String], &SharedDesk)>,
+) -> Result<Built, MissionError> {
     let file = &v.loaded.file;
     let site = Arc::new(v.site);
     let roads = Arc::new(Roads::new(&site));
@@ -347,6 +353,13 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, MissionError> {
                     _ => Box::new(Aircraft::new(brief.clone(), pilot, role, height)),
                 }
             }
+        };
+        let agent = match external.filter(|(names, _)| names.contains(&m.name)) {
+            Some((_, desk)) => match External::for_member(m, brief.clone(), desk.clone()) {
+                Some(e) => Box::new(e),
+                None => agent,
+            },
+            None => agent,
         };
         let id = sim
             .add_agent(m.name.clone(), agent)

@@ -49,6 +49,14 @@ pub mod scenarios {}
 #[doc = include_str!("../../../docs/guide/src/experiments.md")]
 pub mod experiments {}
 
+/// From one machine to a cluster (`docs/guide/src/cluster.md`).
+#[doc = include_str!("../../../docs/guide/src/cluster.md")]
+pub mod cluster {}
+
+/// Python and PettingZoo (`docs/guide/src/python.md`).
+#[doc = include_str!("../../../docs/guide/src/python.md")]
+pub mod python {}
+
 /// Recordings and the viewer (`docs/guide/src/recordings.md`).
 #[doc = include_str!("../../../docs/guide/src/recordings.md")]
 pub mod recordings {}

@@ -1,0 +1,256 @@
+//! `EvacSim`: an evacuation run some of whose blue units are driven from Python
+//! (`vitro_evac::external`), the engine of `vitro.env.parallel_env`.
+
+use crate::{guarded, py_error};
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use vitro::entity::EntityId;
+use vitro::time::{SimDuration, SimTime};
+use vitro_evac::Mission;
+use vitro_evac::external::{Command, SharedDesk, lock, target_points};
+use vitro_mission::{BuildOptions, Mission as _, RegistryError, Run};
+use vitro_tactical::world::Side;
+use vitro_tools::ToolError;
+
+/// Simulated time between two checks for news while advancing, seconds (the sensors'
+/// period in the shipped scenarios).
+const SLICE_S: f64 = 1.0;
+
+/// An evacuation run with externally driven units.
+#[pyclass(unsendable, module = "vitro._vitro")]
+pub struct EvacSim {
+    mission: Mission,
+    desk: SharedDesk,
+    agents: Vec<(String, EntityId)>,
+    targets: Vec<[f64; 3]>,
+}
+
+fn side_code(s: Side) -> i64 {
+    match s {
+        Side::Blue => 1,
+        Side::Red => 2,
+        _ => 0,
+    }
+}
+
+/// Builds the run: the scenario checked as `vitro run` checks it (same messages), then the
+/// mission with `units` (default: every controllable unit) driven from outside.
+fn build(
+    path: PathBuf,
+    options: BuildOptions,
+    units: Option<Vec<String>>,
+) -> Result<EvacSim, ToolError> {
+    let (mission, text) = vitro_tools::registry()
+        .read(&path)
+        .map_err(|e| vitro_tools::scenario_error(&path, e))?;
+    if mission.kind() != vitro_evac::Evacuation.kind() {
+        return Err(ToolError::Input(format!(
+            "{}: a {:?} scenario; the environment runs evacuation scenarios",
+            path.display(),
+            mission.kind()
+        )));
+    }
+    let v = vitro_evac::validated(&path, &text, options.fidelity.as_deref())
+        .map_err(|e| vitro_tools::scenario_error(&path, RegistryError::Mission(e)))?;
+    let can = Mission::controllable(&v);
+    let units = units.unwrap_or_else(|| can.clone());
+    if units.is_empty() {
+        return Err(ToolError::Input(format!(
+            "{}: no unit to drive from outside",
+            path.display()
+        )));
+    }
+    if let Some(bad) = units.iter().find(|u| !can.contains(u)) {
+        return Err(ToolError::Input(format!(
+            "{bad:?} cannot be driven from outside (the controllable units of {}: {})",
+            path.display(),
+            can.join(", ")
+        )));
+    }
+    let (mission, desk) = Mission::build_external(v, options.seed, &units).map_err(|e| {
+        vitro_tools::scenario_error(&path, RegistryError::Mission(vitro_evac::mission_error(e)))
+    })?;
+    let agents = units
+        .iter()
+        .filter_map(|u| {
+            let m = mission.members.iter().find(|m| &m.name == u)?;
+            Some((u.clone(), m.id))
+        })
+        .collect();
+    let points = target_points(&mission.brief);
+    Ok(EvacSim {
+        mission,
+        desk,
+        agents,
+        targets: points,
+    })
+}
+
+impl EvacSim {
+    fn id(&self, agent: &str) -> Result<EntityId, ToolError> {
+        self.agents
+            .iter()
+            .find(|(n, _)| n == agent)
+            .map(|(_, id)| *id)
+            .ok_or_else(|| ToolError::Input(format!("no agent {agent:?}")))
+    }
+
+    fn knowledge_json(&self, agent: &str) -> Result<String, ToolError> {
+        let id = self.id(agent)?;
+        let desk = lock(&self.desk);
+        let k = desk
+            .units
+            .get(&id)
+            .map(|s| s.knowledge.clone())
+            .unwrap_or_default();
+        let now = self.mission.sim.now();
+        let seen: Vec<serde_json::Value> = k
+            .seen
+            .iter()
+            .map(|(who, p, side)| serde_json::json!([who.0, p[0], p[1], side_code(*side)]))
+            .collect();
+        let heard: Vec<serde_json::Value> = k
+            .heard
+            .iter()
+            .map(|(who, h)| {
+                let age = now.saturating_since(h.at).as_secs_f64();
+                serde_json::json!([who.0, h.pos[0], h.pos[1], side_code(h.seen_as), age])
+            })
+            .collect();
+        let out = serde_json::json!({
+            "pos": k.pos.map(|p| [p[0], p[1]]),
+            "active": k.active,
+            "goal": k.goal,
+            "arrived": k.arrived,
+            "seen": seen,
+            "heard": heard,
+            "refused": k.refused,
+        });
+        Ok(out.to_string())
+    }
+}
+
+#[pymethods]
+impl EvacSim {
+    /// Builds the run of the evacuation scenario at `scenario_path`.
+    #[new]
+    #[pyo3(signature = (scenario_path, seed=None, fidelity=None, units=None))]
+    fn new(
+        py: Python<'_>,
+        scenario_path: PathBuf,
+        seed: Option<u64>,
+        fidelity: Option<String>,
+        units: Option<Vec<String>>,
+    ) -> PyResult<EvacSim> {
+        guarded(|| build(scenario_path, BuildOptions { seed, fidelity }, units))
+            .map_err(|e| py_error(py, e))
+    }
+
+    /// The names of the externally driven units, in id order.
+    fn agents(&self) -> Vec<String> {
+        self.agents.iter().map(|(n, _)| n.clone()).collect()
+    }
+
+    /// The targets commands name: world (x, y, z) points, in order.
+    fn targets(&self) -> Vec<(f64, f64, f64)> {
+        self.targets.iter().map(|p| (p[0], p[1], p[2])).collect()
+    }
+
+    /// The target indices of the start, the safehouse and the extraction point.
+    fn places(&self) -> (usize, usize, usize) {
+        let [a, b, c] = vitro_evac::external::places(&self.mission.brief);
+        (a, b, c)
+    }
+
+    /// The simulated time now, seconds.
+    fn now(&self) -> f64 {
+        self.mission.sim.now().as_secs_f64()
+    }
+
+    /// When the run ends at the latest, simulated seconds.
+    fn end(&self) -> f64 {
+        self.mission.end.as_secs_f64()
+    }
+
+    /// Ends the run at `until` simulated seconds at the latest.
+    fn set_end(&mut self, py: Python<'_>, until: f64) -> PyResult<()> {
+        vitro_tools::set_until(&mut self.mission, until).map_err(|e| py_error(py, e))
+    }
+
+    /// True once the mission is over.
+    fn finished(&self) -> bool {
+        self.mission.finished()
+    }
+
+    /// The trace hash so far, as `vitro run` prints it.
+    fn trace_hash(&self) -> String {
+        format!("{:016x}", self.mission.sim.trace_hash())
+    }
+
+    /// Leaves a command for `agent`: 0 holds, `1 + i` goes to target `i`. Carried out at
+    /// the unit's next look (within a sensor period).
+    fn command(&mut self, py: Python<'_>, agent: &str, action: i64) -> PyResult<()> {
+        let run = || {
+            let id = self.id(agent)?;
+            let command = match usize::try_from(action) {
+                Ok(0) => Command::Hold,
+                Ok(a) if a <= self.targets.len() => Command::GoTo(a - 1),
+                _ => {
+                    return Err(ToolError::Input(format!(
+                        "action {action} for {agent:?}: expected 0 (hold) to {} (a target)",
+                        self.targets.len()
+                    )));
+                }
+            };
+            lock(&self.desk).units.entry(id).or_default().pending = Some(command);
+            Ok(())
+        };
+        guarded(run).map_err(|e| py_error(py, e))
+    }
+
+    /// Runs at most `max_s` simulated seconds, in slices of a second; with `stop_on_news`
+    /// stops after the first slice in which a driven unit reached its goal or saw a new
+    /// hostile. Returns false once the mission is over.
+    fn advance(&mut self, py: Python<'_>, max_s: f64, stop_on_news: bool) -> PyResult<bool> {
+        let run = || {
+            if !(max_s > 0.0 && max_s.is_finite()) {
+                return Err(ToolError::Input(format!(
+                    "advance {max_s}: expected a positive number of simulated seconds"
+                )));
+            }
+            for slot in lock(&self.desk).units.values_mut() {
+                slot.knowledge.arrived = false;
+                slot.knowledge.new_contact = false;
+            }
+            let stop =
+                (self.mission.sim.now() + SimDuration::from_secs_f64(max_s)).min(self.mission.end);
+            let slice = SimDuration::from_secs_f64(SLICE_S);
+            loop {
+                let t: SimTime = (self.mission.sim.now() + slice).min(stop);
+                if !self.mission.advance(t) {
+                    return Ok(false);
+                }
+                let news = lock(&self.desk)
+                    .units
+                    .values()
+                    .any(|s| s.knowledge.arrived || s.knowledge.new_contact);
+                if t >= stop || (stop_on_news && news) {
+                    return Ok(true);
+                }
+            }
+        };
+        guarded(run).map_err(|e| py_error(py, e))
+    }
+
+    /// What `agent` knows, as JSON text: `pos` [x, y] (world metres) or null, `active`,
+    /// `goal` (target index or null), `arrived`, `seen` [[id, x, y, side]] nearest first,
+    /// `heard` [[id, x, y, side, age_s]] (side: 0 neutral, 1 blue, 2 red), `refused`.
+    fn knowledge(&self, py: Python<'_>, agent: &str) -> PyResult<String> {
+        guarded(|| self.knowledge_json(agent)).map_err(|e| py_error(py, e))
+    }
+
+    /// The mission's metrics so far (the referee's, never given to an agent), as JSON text.
+    fn metrics(&self) -> String {
+        serde_json::Value::Object(self.mission.report()).to_string()
+    }
+}
