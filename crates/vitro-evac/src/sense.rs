@@ -7,17 +7,6 @@ use vitro_tactical::arena::Arena;
 use vitro_tactical::condition::{Condition, Status};
 use vitro_tactical::entity::Pose;
 use vitro_tactical::sensor::{FriendFoeVision, Sighting};
-use vitro_tactical::world::Body;
-
-/// The body that vision looks at: pose, side and height of an active entity.
-fn body_of(w: &Arena, id: EntityId) -> Option<Body> {
-    let c = w.conditions.get(id)?;
-    if c.status != Status::Active {
-        return None;
-    }
-    let p = w.pose(id)?;
-    Some(Body::new(p.pos, p.heading, c.side, c.height))
-}
 
 /// Friend-or-foe vision ([`FriendFoeVision`]) over the arena's active bodies: range, field
 /// of view, line of sight against terrain and buildings, a detection draw and an
@@ -28,15 +17,18 @@ pub struct Vision(pub FriendFoeVision);
 impl Sensor<Arena> for Vision {
     type Reading = Vec<Sighting>;
     fn read(&self, w: &Arena, me: EntityId, probe: &mut Probe<'_>) -> Vec<Sighting> {
-        let Some(mine) = body_of(w, me) else {
+        let Some(mine) = w.body(me) else {
             return Vec::new();
         };
-        w.conditions
-            .iter()
+        // Only bodies within the range can be seen: the arena's grid gives them (in id
+        // order, as a scan of every entity would, so the draws are the same).
+        let near = w.bodies_near(mine.pos[0], mine.pos[1], self.0.range);
+        let rng = probe.rng("fof");
+        near.into_iter()
             .filter(|(id, _)| *id != me)
-            .filter_map(|(id, _)| {
-                let b = body_of(w, id)?;
-                self.0.look(&w.site, &mine, id, &b, probe.rng("fof"))
+            .filter_map(|(id, b)| {
+                self.0
+                    .look_by(&mine, id, &b, &mut *rng, |p, q| w.visible(p, q))
             })
             .collect()
     }

@@ -51,24 +51,13 @@
 
 use super::{FriendFoeVision, Sighting};
 use crate::arena::Arena;
-use crate::condition::Status;
-use crate::world::{Body, Side};
+use crate::world::Side;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use vitro::entity::EntityId;
 use vitro::env::{Probe, Sensor};
 use vitro::sim::{Context, Model};
 use vitro::time::{SimDuration, SimTime};
-
-/// The body vision looks at: pose, side and height of an active entity of the arena.
-fn body_of(w: &Arena, id: EntityId) -> Option<Body> {
-    let c = w.conditions.get(id)?;
-    if c.status != Status::Active {
-        return None;
-    }
-    let p = w.pose(id)?;
-    Some(Body::new(p.pos, p.heading, c.side, c.height))
-}
 
 /// One look of a camera over the arena: [`FriendFoeVision`] against every other active
 /// body, in entity-id order, drawing from the owner's `"fof"` stream. An owner that is not
@@ -79,15 +68,18 @@ pub struct Look(pub FriendFoeVision);
 impl Sensor<Arena> for Look {
     type Reading = Vec<Sighting>;
     fn read(&self, w: &Arena, me: EntityId, probe: &mut Probe<'_>) -> Vec<Sighting> {
-        let Some(mine) = body_of(w, me) else {
+        let Some(mine) = w.body(me) else {
             return Vec::new();
         };
-        w.conditions
-            .iter()
+        // Only bodies within the range can be seen: the arena's grid gives them (in id
+        // order, as a scan of every entity would, so the draws are the same).
+        let near = w.bodies_near(mine.pos[0], mine.pos[1], self.0.range);
+        let rng = probe.rng("fof");
+        near.into_iter()
             .filter(|(id, _)| *id != me)
-            .filter_map(|(id, _)| {
-                let b = body_of(w, id)?;
-                self.0.look(&w.site, &mine, id, &b, probe.rng("fof"))
+            .filter_map(|(id, b)| {
+                self.0
+                    .look_by(&mine, id, &b, &mut *rng, |p, q| w.visible(p, q))
             })
             .collect()
     }
