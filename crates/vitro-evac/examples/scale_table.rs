@@ -11,8 +11,10 @@
 //! memory (`VmHWM` of `/proc/self/status`) is that row's alone.
 //!
 //! Columns: level, entities, events fired, wall seconds of the run (setup excluded), µs per
-//! event, simulated seconds per wall second, the setup's wall seconds, peak RSS in MiB and
-//! the run's trace hash (equal before and after a change that must not alter the model).
+//! event, simulated seconds per wall second, the run's CPU seconds and µs of CPU per event
+//! (the thread's own time: steadier than wall time on a loaded machine), the setup's wall
+//! seconds, peak RSS in MiB, the simulated seconds run and the run's trace hash (equal
+//! before and after a change that must not alter the model).
 
 use std::path::Path;
 use std::process::Command;
@@ -70,6 +72,15 @@ fn peak_rss_mib() -> f64 {
         .map_or(f64::NAN, |kb| kb / 1024.0)
 }
 
+/// The calling thread's CPU time in seconds, from `/proc/thread-self/schedstat` (NaN where
+/// unavailable).
+fn thread_cpu_s() -> f64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .map_or(f64::NAN, |ns| ns / 1e9)
+}
+
 fn preset(level: &str) -> Result<Preset, String> {
     match level {
         "discrete" => Ok(Preset::Discrete),
@@ -93,15 +104,17 @@ fn row(blocks: u32, level: &str, until_s: f64) -> Result<(), Box<dyn std::error:
     let mut mission = Mission::build(v, None)?;
     let setup = t0.elapsed().as_secs_f64();
     let entities = mission.members.len();
-    let t1 = Instant::now();
+    let (t1, c1) = (Instant::now(), thread_cpu_s());
     mission.advance(SimTime::from_secs_f64(until_s));
     let wall = t1.elapsed().as_secs_f64();
+    let cpu = thread_cpu_s() - c1;
     let events = mission.sim.events_fired();
     let sim_s = mission.sim.now().as_secs_f64();
     println!(
-        "{level:>12} {entities:>8} {events:>10} {wall:>8.2} {:>9.2} {:>9.1} {setup:>7.2} {:>8.1} {sim_s:>7.0} {:016x}",
+        "{level:>12} {entities:>8} {events:>10} {wall:>8.2} {:>9.2} {:>9.1} {cpu:>7.2} {:>9.2} {setup:>7.2} {:>8.1} {sim_s:>7.0} {:016x}",
         wall * 1e6 / events.max(1) as f64,
         sim_s / wall,
+        cpu * 1e6 / events.max(1) as f64,
         peak_rss_mib(),
         mission.sim.trace_hash(),
     );
@@ -141,13 +154,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let base = ScenarioFile::load(scenario_path()).map_err(|d| d.render())?;
     let default: u32 = base.file.entities.iter().map(|e| e.count.max(1)).sum();
     println!(
-        "{:>12} {:>8} {:>10} {:>8} {:>9} {:>9} {:>7} {:>8} {:>7} trace hash",
+        "{:>12} {:>8} {:>10} {:>8} {:>9} {:>9} {:>7} {:>9} {:>7} {:>8} {:>7} trace hash",
         "level",
         "entities",
         "events",
         "wall s",
         "µs/event",
         "sim/wall",
+        "cpu s",
+        "cpu µs/ev",
         "setup s",
         "peak MiB",
         "sim s"
