@@ -260,6 +260,20 @@ impl FriendFoeVision {
         if !self.can_see_by(me, b, visible) {
             return None;
         }
+        self.sighting(me, id, b, rng)
+    }
+
+    /// The draws of a look from `me` at body `b` of entity `id` that it can see
+    /// ([`can_see`](Self::can_see)): detection with its probability at the distance, then
+    /// identification. A sensor that first finds the bodies it can see, then draws for them
+    /// in id order, draws exactly as [`look`](Self::look) at every body in id order does.
+    pub fn sighting(
+        &self,
+        me: &Body,
+        id: EntityId,
+        b: &Body,
+        rng: &mut impl Rng,
+    ) -> Option<Sighting> {
         let d = dist3(me.pos, b.pos);
         if rng.random::<f64>() >= self.detection_probability(d) {
             return None;

@@ -190,7 +190,7 @@ impl BodyGrid {
     }
 
     /// The active bodies within `radius` metres of `(x, y)` horizontally (and perhaps a few
-    /// more, never fewer: those off the grid's cells), in id order.
+    /// more, never fewer: those off the grid's cells), in no particular order.
     pub(crate) fn near(
         &mut self,
         w: &impl Bodies,
@@ -231,7 +231,6 @@ impl BodyGrid {
                 }
             }
         }
-        out.sort_unstable_by_key(|(id, _)| *id);
         out
     }
 }

@@ -25,6 +25,14 @@ impl Arena {
     /// that range needs to examine. Answered from a grid kept in step with the storages, so
     /// a look costs what is near, not what is in the arena.
     pub fn bodies_near(&self, x: f64, y: f64, radius: f64) -> Vec<(EntityId, Body)> {
+        let mut near = self.bodies_within(x, y, radius);
+        near.sort_unstable_by_key(|(id, _)| *id);
+        near
+    }
+
+    /// [`bodies_near`](Self::bodies_near) in no particular order (for a sensor that sorts
+    /// only what it keeps).
+    pub fn bodies_within(&self, x: f64, y: f64, radius: f64) -> Vec<(EntityId, Body)> {
         match self.grid.lock() {
             Ok(mut g) => g.near(self, x, y, radius),
             // A panic elsewhere poisoned the lock: examine everything.

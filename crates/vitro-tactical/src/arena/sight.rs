@@ -14,8 +14,9 @@ use std::hash::{BuildHasherDefault, Hasher};
 /// Most pairs kept in one generation.
 pub(crate) const CAPACITY: usize = 1 << 19;
 
-/// Two points as exact bits.
-type Key = [u64; 6];
+/// Two points as exact bits (fields, not an array: compared inline, not by `memcmp`).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+struct Key(u64, u64, u64, u64, u64, u64);
 
 /// A fast hasher for keys of exact float bits (not a source of any iteration order: the
 /// memo is only ever looked up).
@@ -61,14 +62,14 @@ impl SightMemo {
         b: [f64; 3],
         cast: impl FnOnce([f64; 3], [f64; 3]) -> bool,
     ) -> bool {
-        let key = [
+        let key = Key(
             a[0].to_bits(),
             a[1].to_bits(),
             a[2].to_bits(),
             b[0].to_bits(),
             b[1].to_bits(),
             b[2].to_bits(),
-        ];
+        );
         if let Some(&v) = self.new.get(&key) {
             self.hits += 1;
             return v;

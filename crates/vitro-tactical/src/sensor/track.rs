@@ -71,16 +71,15 @@ impl Sensor<Arena> for Look {
         let Some(mine) = w.body(me) else {
             return Vec::new();
         };
-        // Only bodies within the range can be seen: the arena's grid gives them (in id
-        // order, as a scan of every entity would, so the draws are the same).
-        let near = w.bodies_near(mine.pos[0], mine.pos[1], self.0.range);
+        // Only bodies within the range can be seen: the arena's grid gives them. Which ones
+        // can be seen does not depend on the order; the draws then go in id order, as in a
+        // look at every entity in id order.
+        let mut seen = w.bodies_within(mine.pos[0], mine.pos[1], self.0.range);
+        seen.retain(|(id, b)| *id != me && self.0.can_see_by(&mine, b, |p, q| w.visible(p, q)));
+        seen.sort_unstable_by_key(|(id, _)| *id);
         let rng = probe.rng("fof");
-        near.into_iter()
-            .filter(|(id, _)| *id != me)
-            .filter_map(|(id, b)| {
-                self.0
-                    .look_by(&mine, id, &b, &mut *rng, |p, q| w.visible(p, q))
-            })
+        seen.into_iter()
+            .filter_map(|(id, b)| self.0.sighting(&mine, id, &b, &mut *rng))
             .collect()
     }
 }
