@@ -21,13 +21,20 @@ use vitro_abm::median;
 use vitro_abm::schelling::{self, Schelling};
 use vitro_abm::wolfsheep::{self, WolfSheep};
 
-/// The calling thread's CPU time in milliseconds, from `/proc/thread-self/schedstat`
-/// (steadier than wall time on a loaded machine; NaN where unavailable).
+/// The calling thread's CPU time in milliseconds (`CLOCK_THREAD_CPUTIME_ID`: steadier than
+/// wall time on a loaded machine, and exact to the nanosecond; NaN where unavailable).
 fn thread_cpu_ms() -> f64 {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-        .map_or(f64::NAN, |ns| ns / 1e6)
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime only writes the timespec it is given, which lives on this stack.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    if rc == 0 {
+        ts.tv_sec as f64 * 1e3 + ts.tv_nsec as f64 / 1e6
+    } else {
+        f64::NAN
+    }
 }
 
 /// Times `f` over seeds `1..=runs`; returns the median wall and CPU milliseconds and the
