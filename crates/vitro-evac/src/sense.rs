@@ -7,17 +7,6 @@ use vitro_tactical::arena::Arena;
 use vitro_tactical::condition::{Condition, Status};
 use vitro_tactical::entity::Pose;
 use vitro_tactical::sensor::{FriendFoeVision, Sighting};
-use vitro_tactical::world::Body;
-
-/// The body that vision looks at: pose, side and height of an active entity.
-fn body_of(w: &Arena, id: EntityId) -> Option<Body> {
-    let c = w.conditions.get(id)?;
-    if c.status != Status::Active {
-        return None;
-    }
-    let p = w.pose(id)?;
-    Some(Body::new(p.pos, p.heading, c.side, c.height))
-}
 
 /// Friend-or-foe vision ([`FriendFoeVision`]) over the arena's active bodies: range, field
 /// of view, line of sight against terrain and buildings, a detection draw and an
@@ -28,16 +17,18 @@ pub struct Vision(pub FriendFoeVision);
 impl Sensor<Arena> for Vision {
     type Reading = Vec<Sighting>;
     fn read(&self, w: &Arena, me: EntityId, probe: &mut Probe<'_>) -> Vec<Sighting> {
-        let Some(mine) = body_of(w, me) else {
+        let Some(mine) = w.body(me) else {
             return Vec::new();
         };
-        w.conditions
-            .iter()
-            .filter(|(id, _)| *id != me)
-            .filter_map(|(id, _)| {
-                let b = body_of(w, id)?;
-                self.0.look(&w.site, &mine, id, &b, probe.rng("fof"))
-            })
+        // Only bodies within the range can be seen: the arena's grid gives them. Which ones
+        // can be seen does not depend on the order; the draws then go in id order, as in a
+        // look at every entity in id order.
+        let mut seen = w.bodies_within(mine.pos[0], mine.pos[1], self.0.range);
+        seen.retain(|(id, b)| *id != me && self.0.can_see_by(&mine, b, |p, q| w.visible(p, q)));
+        seen.sort_unstable_by_key(|(id, _)| *id);
+        let rng = probe.rng("fof");
+        seen.into_iter()
+            .filter_map(|(id, b)| self.0.sighting(&mine, id, &b, &mut *rng))
             .collect()
     }
 }

@@ -12,6 +12,10 @@
 //! rigid-body physics, one for the aircraft. A clock runs only while something it moves is
 //! moving, so a run whose bodies have all arrived runs out of events.
 
+mod grid;
+mod look;
+mod sight;
+
 use crate::condition::Condition;
 use crate::entity::air::{
     AirKind, Lattice, LatticeBody, Pilot, ctol::CtolBody, dir_of, vtol::VtolBody,
@@ -26,7 +30,7 @@ use crate::entity::{Level, Pose};
 use crate::types::{CtolKind, GroundKind, TroopKind, TypeBook, VtolKind};
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use vitro::entity::EntityId;
 use vitro::env::{Effects, EntityStorage, NodeId, Probe, Sensor};
 use vitro::event::{EventId, Target};
@@ -163,6 +167,10 @@ pub struct Arena {
     pub(crate) tracks: TrackCache,
     /// Per clock: its next tick, while it runs.
     next_tick: [Option<EventId>; 3],
+    /// The active bodies on a grid, for vision ([`bodies_near`](Self::bodies_near)).
+    grid: Mutex<grid::BodyGrid>,
+    /// Line-of-sight answers so far ([`visible`](Self::visible)).
+    sight: Mutex<sight::SightMemo>,
 }
 
 /// Most tracks kept in an arena's cache; it is emptied when full.
@@ -219,6 +227,8 @@ impl Arena {
             conditions: EntityStorage::default(),
             tracks: TrackCache::default(),
             next_tick: [None; 3],
+            grid: Mutex::default(),
+            sight: Mutex::default(),
         }
     }
 

@@ -34,11 +34,80 @@ pub enum Owner {
 /// The set of named random streams of one run.
 ///
 /// Streams are kept per owner (the simulation first, then entities by id), each owner's in
-/// order of first use: a lookup is an index and a scan of that owner's few purposes.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+/// order of first use: a lookup is an index and a scan of that owner's few purposes by the
+/// purposes' hashes, kept with the streams (no name is read: a lookup costs a memory access
+/// or two, which matters when thousands of agents draw in turn). A stream is thus known by
+/// its owner and the [`stable_str_hash`] of its purpose, as its seed is: two purposes whose
+/// names hash alike (a chance of 2^-64 a pair) would share one stream, where they would
+/// otherwise have had two streams of the same seed. It serializes as the list of
+/// `(purpose, stream)` pairs per owner.
+#[derive(Clone, Debug)]
 pub struct RngStreams {
     master: u64,
+    streams: Vec<Vec<Stream>>,
+}
+
+/// One named stream and the hash of its name. The hash comes first and the generator right
+/// after it (`repr(C)`): a lookup's first touch of a cold stream then brings in the start
+/// of the generator's state too.
+#[derive(Clone, Debug)]
+#[repr(C)]
+struct Stream {
+    key: u64,
+    rng: ChaCha8Rng,
+    name: Box<str>,
+}
+
+/// The serialized form of [`RngStreams`].
+#[derive(Serialize)]
+#[serde(rename = "RngStreams")]
+struct Wire<'a> {
+    master: u64,
+    streams: Vec<Vec<(&'a str, &'a ChaCha8Rng)>>,
+}
+
+/// The deserialized form of [`RngStreams`].
+#[derive(Deserialize)]
+#[serde(rename = "RngStreams")]
+struct WireOwned {
+    master: u64,
     streams: Vec<Vec<(Box<str>, ChaCha8Rng)>>,
+}
+
+impl Serialize for RngStreams {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        Wire {
+            master: self.master,
+            streams: self
+                .streams
+                .iter()
+                .map(|l| l.iter().map(|x| (&*x.name, &x.rng)).collect())
+                .collect(),
+        }
+        .serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for RngStreams {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let w = WireOwned::deserialize(d)?;
+        Ok(RngStreams {
+            master: w.master,
+            streams: w
+                .streams
+                .into_iter()
+                .map(|l| {
+                    l.into_iter()
+                        .map(|(name, rng)| Stream {
+                            key: stable_str_hash(&name),
+                            name,
+                            rng,
+                        })
+                        .collect()
+                })
+                .collect(),
+        })
+    }
 }
 
 impl RngStreams {
@@ -64,17 +133,21 @@ impl RngStreams {
         if self.streams.len() <= slot {
             self.streams.resize_with(slot + 1, Vec::new);
         }
+        let key = stable_str_hash(purpose);
         let list = &mut self.streams[slot];
-        // Owners use few purposes: comparing the names beats hashing them on every draw.
-        let i = match list.iter().position(|(k, _)| **k == *purpose) {
+        let i = match list.iter().position(|x| x.key == key) {
             Some(i) => i,
             None => {
-                let seed = derive_seed(self.master, owner, stable_str_hash(purpose));
-                list.push((purpose.into(), ChaCha8Rng::from_seed(seed)));
+                let seed = derive_seed(self.master, owner, key);
+                list.push(Stream {
+                    key,
+                    name: purpose.into(),
+                    rng: ChaCha8Rng::from_seed(seed),
+                });
                 list.len() - 1
             }
         };
-        &mut list[i].1
+        &mut list[i].rng
     }
 
     /// A stream for (owner, purpose) independent of this set's state: same seed as
@@ -125,6 +198,38 @@ mod tests {
         let mut r: RngStreams = postcard::from_bytes(&bytes).unwrap();
         let x: u64 = s.stream(Owner::Global, "x").random();
         let y: u64 = r.stream(Owner::Global, "x").random();
+        assert_eq!(x, y);
+    }
+
+    #[test]
+    fn serializes_as_name_and_stream_pairs_per_owner() {
+        // The form snapshots hold: what `#[derive(Serialize)]` gave before the hashes.
+        #[derive(Serialize)]
+        struct Before {
+            master: u64,
+            streams: Vec<Vec<(Box<str>, ChaCha8Rng)>>,
+        }
+        let mut s = RngStreams::new(9);
+        let _: u64 = s.stream(Owner::Global, "a").random();
+        let _: u64 = s.stream(Owner::Entity(EntityId(1)), "b").random();
+        let _: u64 = s.stream(Owner::Entity(EntityId(1)), "c").random();
+        let rng = |s: &mut RngStreams, o, p| s.stream(o, p).clone();
+        let before = Before {
+            master: 9,
+            streams: vec![
+                vec![("a".into(), rng(&mut s, Owner::Global, "a"))],
+                vec![],
+                vec![
+                    ("b".into(), rng(&mut s, Owner::Entity(EntityId(1)), "b")),
+                    ("c".into(), rng(&mut s, Owner::Entity(EntityId(1)), "c")),
+                ],
+            ],
+        };
+        let bytes = postcard::to_stdvec(&s).unwrap();
+        assert_eq!(bytes, postcard::to_stdvec(&before).unwrap());
+        let mut r: RngStreams = postcard::from_bytes(&bytes).unwrap();
+        let x: u64 = s.stream(Owner::Entity(EntityId(1)), "c").random();
+        let y: u64 = r.stream(Owner::Entity(EntityId(1)), "c").random();
         assert_eq!(x, y);
     }
 }

@@ -13,8 +13,9 @@ use vitro_site::site::Site;
 
 /// Largest end time, seconds.
 pub const MAX_END_S: f64 = 1e6;
-/// Most entities in one `[[entity]]` group.
-pub const MAX_COUNT: u32 = 100;
+/// Most entities in one `[[entity]]` group (a scenario may have many groups: swarms of
+/// tens of thousands run, see the README's scaling table).
+pub const MAX_COUNT: u32 = 20_000;
 /// Flight altitudes above the ground, metres.
 pub const ALTITUDE_M: (f64, f64) = (20.0, 3000.0);
 
@@ -408,7 +409,12 @@ fn entities(c: &mut Checks<'_>) {
         }
         let count = e.count;
         let ok = (1..=MAX_COUNT).contains(&count);
-        c.value(&at("count"), count, ok, "a count in 1..=100");
+        c.value(
+            &at("count"),
+            count,
+            ok,
+            &format!("a count in 1..={MAX_COUNT}"),
+        );
         if let Some(p) = e.start {
             c.point(&at("start"), p, TOWN_XY);
         }

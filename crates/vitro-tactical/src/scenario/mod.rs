@@ -284,7 +284,7 @@ pub struct EntitySpec {
     pub kind: EntityType,
     /// Allegiance.
     pub side: SideSpec,
-    /// How many, 1 to 100.
+    /// How many, 1 to 20000.
     #[serde(default = "one")]
     pub count: u32,
     /// Start, town metres `[x, y]`; none: placed by the mission.

@@ -51,24 +51,13 @@
 
 use super::{FriendFoeVision, Sighting};
 use crate::arena::Arena;
-use crate::condition::Status;
-use crate::world::{Body, Side};
+use crate::world::Side;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use vitro::entity::EntityId;
 use vitro::env::{Probe, Sensor};
 use vitro::sim::{Context, Model};
 use vitro::time::{SimDuration, SimTime};
-
-/// The body vision looks at: pose, side and height of an active entity of the arena.
-fn body_of(w: &Arena, id: EntityId) -> Option<Body> {
-    let c = w.conditions.get(id)?;
-    if c.status != Status::Active {
-        return None;
-    }
-    let p = w.pose(id)?;
-    Some(Body::new(p.pos, p.heading, c.side, c.height))
-}
 
 /// One look of a camera over the arena: [`FriendFoeVision`] against every other active
 /// body, in entity-id order, drawing from the owner's `"fof"` stream. An owner that is not
@@ -79,16 +68,18 @@ pub struct Look(pub FriendFoeVision);
 impl Sensor<Arena> for Look {
     type Reading = Vec<Sighting>;
     fn read(&self, w: &Arena, me: EntityId, probe: &mut Probe<'_>) -> Vec<Sighting> {
-        let Some(mine) = body_of(w, me) else {
+        let Some(mine) = w.body(me) else {
             return Vec::new();
         };
-        w.conditions
-            .iter()
-            .filter(|(id, _)| *id != me)
-            .filter_map(|(id, _)| {
-                let b = body_of(w, id)?;
-                self.0.look(&w.site, &mine, id, &b, probe.rng("fof"))
-            })
+        // Only bodies within the range can be seen: the arena's grid gives them. Which ones
+        // can be seen does not depend on the order; the draws then go in id order, as in a
+        // look at every entity in id order.
+        let mut seen = w.bodies_within(mine.pos[0], mine.pos[1], self.0.range);
+        seen.retain(|(id, b)| *id != me && self.0.can_see_by(&mine, b, |p, q| w.visible(p, q)));
+        seen.sort_unstable_by_key(|(id, _)| *id);
+        let rng = probe.rng("fof");
+        seen.into_iter()
+            .filter_map(|(id, b)| self.0.sighting(&mine, id, &b, &mut *rng))
             .collect()
     }
 }

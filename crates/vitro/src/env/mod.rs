@@ -11,4 +11,4 @@ pub mod storage;
 
 pub use actuator::{Actuator, Effects};
 pub use sensor::{Probe, Sensor};
-pub use storage::{EntityStorage, GraphStorage, KeyValueStorage, NodeId};
+pub use storage::{EntityStorage, GraphStorage, KeyValueStorage, NodeId, WRITE_LOG};

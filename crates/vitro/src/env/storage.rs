@@ -12,11 +12,37 @@ use std::cmp::Ordering;
 use std::collections::{BTreeMap, BinaryHeap};
 
 /// Per-entity state of one entity type: a dense table indexed by [`EntityId`].
+///
+/// Besides its digest, a storage counts its writes and remembers the entities of the last
+/// [`WRITE_LOG`] of them ([`written_since`](Self::written_since)), so a reader that keeps a
+/// derived index (a spatial grid of the bodies, say) can catch up with the entities that
+/// changed instead of reading them all. The count and the log are not part of a snapshot.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct EntityStorage<T> {
     rows: Vec<Option<T>>,
     len: usize,
     digest: TraceHasher,
+    #[serde(skip)]
+    log: WriteLog,
+}
+
+/// How many of the latest writes an [`EntityStorage`] remembers the entity of.
+pub const WRITE_LOG: usize = 64;
+
+/// The write count and the entities of the latest [`WRITE_LOG`] writes (a ring).
+#[derive(Clone, Debug)]
+struct WriteLog {
+    writes: u64,
+    ring: [EntityId; WRITE_LOG],
+}
+
+impl Default for WriteLog {
+    fn default() -> Self {
+        WriteLog {
+            writes: 0,
+            ring: [EntityId(0); WRITE_LOG],
+        }
+    }
 }
 
 impl<T> Default for EntityStorage<T> {
@@ -25,12 +51,16 @@ impl<T> Default for EntityStorage<T> {
             rows: Vec::new(),
             len: 0,
             digest: TraceHasher::default(),
+            log: WriteLog::default(),
         }
     }
 }
 
 impl<T: Serialize> EntityStorage<T> {
     fn record(&mut self, id: EntityId, op: u64) {
+        let log = &mut self.log;
+        log.ring[(log.writes % WRITE_LOG as u64) as usize] = id;
+        log.writes += 1;
         self.digest.write_u64(((id.0 as u64) << 8) | op);
         if let Some(Some(v)) = self.rows.get(id.index()) {
             self.digest.digest(v);
@@ -100,6 +130,33 @@ impl<T> EntityStorage<T> {
     /// Running digest of every write so far.
     pub fn digest(&self) -> u64 {
         self.digest.finish()
+    }
+    /// Writes (inserts, updates, removals) since this storage was made or restored.
+    pub fn writes(&self) -> u64 {
+        self.log.writes
+    }
+    /// The entities written since the storage had made `since` writes, oldest first
+    /// (an entity written twice comes twice); `None` if that is more than [`WRITE_LOG`]
+    /// writes ago, or in the future.
+    ///
+    /// ```
+    /// use vitro::env::EntityStorage;
+    /// use vitro::entity::EntityId;
+    /// let mut s: EntityStorage<u8> = EntityStorage::default();
+    /// s.insert(EntityId(3), 1);
+    /// let mark = s.writes();
+    /// s.update(EntityId(3), |v| *v = 2);
+    /// s.insert(EntityId(5), 1);
+    /// let ids: Vec<EntityId> = s.written_since(mark).unwrap().collect();
+    /// assert_eq!(ids, [EntityId(3), EntityId(5)]);
+    /// assert!(s.written_since(mark + 5).is_none());
+    /// ```
+    pub fn written_since(&self, since: u64) -> Option<impl Iterator<Item = EntityId> + '_> {
+        let log = &self.log;
+        if since > log.writes || log.writes - since > WRITE_LOG as u64 {
+            return None;
+        }
+        Some((since..log.writes).map(move |i| log.ring[(i % WRITE_LOG as u64) as usize]))
     }
 }
 
