@@ -3,6 +3,7 @@
 //! back with it, takes everybody on board, drives to the extraction point, and splits off
 //! pursuers when the high-value target is reported.
 
+use serde::{Deserialize, Serialize};
 use super::hunt::SILENT;
 use super::{SENSE, tell};
 use crate::act::{Dismount, Drive, Unload};
@@ -29,7 +30,7 @@ const PATIENCE_S: f64 = 600.0;
 const REPEAT_S: f64 = 30.0;
 
 /// Where the mission stands.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Phase {
     /// Driving to the safehouse.
     Out,
@@ -46,7 +47,7 @@ pub enum Phase {
 }
 
 /// The squad walking in formation during the pickup, as the commander made it.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Squad {
     /// Who leads it (and is ordered where to go).
     pub leader: EntityId,
@@ -57,8 +58,9 @@ pub struct Squad {
 }
 
 /// The truck's controller.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Commander {
+    #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
     drive: Drive,
     dismount: Dismount,

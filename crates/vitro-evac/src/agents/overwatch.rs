@@ -3,6 +3,7 @@
 //! `Signal(`[`SEARCH`]`, "x y")` broadcasts, so that its camera (air vision: wide range, all
 //! round) finds the target and its contact reports keep the pursuers' belief narrow.
 
+use serde::{Deserialize, Serialize};
 use super::hunt::SEARCH;
 use vitro_tactical::radio::Radio;
 
@@ -10,7 +11,7 @@ use vitro_tactical::radio::Radio;
 const ORBIT_M: f64 = 120.0;
 
 /// What an aircraft knows of the hunt: the latest search point, if any.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Overwatch {
     /// The latest search point (world x, y).
     pub point: Option<[f64; 2]>,

@@ -2,6 +2,7 @@
 //! that no drone watches over, and the high-value target, hidden until it shows up, then
 //! evading its pursuers with the configured anytime search.
 
+use serde::{Deserialize, Serialize};
 use super::SENSE;
 use super::hunt::Search;
 use super::hunt::TurnClock;
@@ -23,8 +24,9 @@ use vitro_tactical::model::{Controller, Intention, Tactical};
 use vitro_tactical::world::Side;
 
 /// A red adversary hiding at a node.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Adversary {
+    #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
     aim: BTreeMap<EntityId, SimTime>,
     /// Shots fired.
@@ -110,8 +112,9 @@ impl Controller for Adversary {
 const APPEAR: u64 = 30;
 
 /// The high-value target: hidden, then evading.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Hvt {
+    #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
     walk: Walk,
     search: Search,

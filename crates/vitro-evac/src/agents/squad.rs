@@ -36,6 +36,7 @@
 //! [`Leader`] with no members): the walk actuator plans from the last walk-graph node its
 //! body passed, which free steering leaves behind.
 
+use serde::{Deserialize, Serialize};
 use crate::brief::Brief;
 use crate::sense::Fallen;
 use std::collections::BTreeMap;
@@ -59,6 +60,7 @@ pub(crate) fn is_tick(key: u64) -> bool {
 }
 
 /// What the trooper does in the squad.
+#[derive(Serialize, Deserialize)]
 pub(crate) enum Part {
     /// Leads it, walking to `goal` (world x, y) if it was given one.
     Lead {
@@ -72,6 +74,7 @@ pub(crate) enum Part {
 }
 
 /// A trooper's part in the squad, with the formation controller it embeds.
+#[derive(Serialize, Deserialize)]
 pub(crate) struct Squad {
     /// Leader or member.
     pub part: Part,

@@ -3,6 +3,7 @@
 //! and — when sent after the high-value target — hunt it as a team (the first pursuer runs
 //! the search, see [`hunt`](super::hunt)).
 
+use serde::{Deserialize, Serialize};
 use super::hunt::{Hunt, TurnClock};
 use super::squad::{self, Part, Squad, note};
 use super::{Reporter, SENSE, tell};
@@ -33,7 +34,7 @@ pub(crate) const TURN: u64 = 20;
 pub(crate) const DECIDED: u64 = 21;
 
 /// What a trooper is doing.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Task {
     /// Nothing (or riding).
     Idle,
@@ -51,8 +52,9 @@ pub enum Task {
 }
 
 /// A blue trooper or the VIP.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Trooper {
+    #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
     walk: Walk,
     /// What it is doing.
@@ -68,6 +70,7 @@ pub struct Trooper {
     last_order: Option<Order>,
     clock: TurnClock,
     /// The last report sent (to whom, what): repeated if the same order comes again.
+    #[serde(with = "crate::snapshot::static_word")]
     report: Option<(EntityId, &'static str)>,
     /// Its part in the squad walking in formation, if it is in one.
     squad: Option<Squad>,

@@ -3,6 +3,7 @@
 //! on. Every draw comes from the unit's own `"route"` stream, so a run is the same for a
 //! seed whatever else the scenario holds. They sense nothing but their own position.
 
+use serde::{Deserialize, Serialize};
 use crate::act::{Drive, Walk};
 use crate::brief::{Gait, RedBrief};
 use crate::model::{Field, Unit};
@@ -21,8 +22,9 @@ const GO: u64 = 1;
 const RETRY: SimDuration = SimDuration::from_secs(10);
 
 /// A red unit on the move.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Prowler {
+    #[serde(with = "crate::snapshot::red_brief")]
     brief: Arc<RedBrief>,
     gait: Gait,
     /// Where it is going.
@@ -32,6 +34,11 @@ pub struct Prowler {
 }
 
 impl Prowler {
+    /// Its briefing.
+    pub(crate) fn brief(&self) -> &Arc<RedBrief> {
+        &self.brief
+    }
+
     /// A red unit of `brief` moving with `gait`.
     pub fn new(brief: Arc<RedBrief>, gait: Gait) -> Self {
         Prowler {

@@ -13,6 +13,7 @@
 //! other's report. Every UAV reports its status (position, sectors, what it follows) every
 //! `heartbeat_s` and its fresh fixes every `report_s`, over the radio only.
 
+use serde::{Deserialize, Serialize};
 use super::plan::{cost, search_route, watch};
 use crate::act::Pilot;
 use crate::brief::{Airframe, TeamBrief};
@@ -41,7 +42,7 @@ const CNET: TimerTag = TimerTag(1);
 const REFLY_M: f64 = 25.0;
 
 /// What a UAV is doing.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Mode {
     /// Sweeping its sectors.
     Search,
@@ -59,7 +60,7 @@ pub enum Mode {
 }
 
 /// A stretch of time a UAV's tracker held a lock on a target.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LockSpan {
     /// The target.
     pub target: EntityId,
@@ -70,8 +71,9 @@ pub struct LockSpan {
 }
 
 /// A UAV of the team.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Uav {
+    #[serde(with = "crate::snapshot::team_brief")]
     brief: Arc<TeamBrief>,
     frame: Airframe,
     cnet: ContractNet<Net>,

@@ -52,6 +52,7 @@
 //! map is where its policy puts it in the long run at the current phase
 //! ([`PatrolGame::heat`]).
 
+use serde::{Deserialize, Serialize};
 use crate::brief::Brief;
 use crate::error::MissionError;
 use board::{Board, project, targets};
@@ -247,9 +248,10 @@ impl PatrolGame {
 
 /// One Skeldar's place in the patrol game: a small state machine, stepped every
 /// `patrol.step_s` by its aircraft ([`PatrolUnit::step`]).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PatrolUnit {
     /// The solved game (shared by every Skeldar).
+    #[serde(with = "crate::snapshot::patrol_game")]
     pub game: Arc<PatrolGame>,
     /// Its unit in the plan.
     pub unit: usize,

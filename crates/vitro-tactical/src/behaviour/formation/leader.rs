@@ -1,6 +1,7 @@
 //! The squad leader: takes orders, walks the walk graph with the squad in formation, and
 //! runs the leader's rule program (formation, pace, arrival).
 
+use serde::{Deserialize, Serialize};
 use super::ground::{self, Ground};
 use super::kb::{self};
 use super::motion::{Mover, xy};
@@ -40,6 +41,7 @@ const LOOK_EVERY: SimDuration = SimDuration::from_secs(1);
 
 /// The squad leader (a [`Controller`]): see the [module docs](super) for what it does and
 /// the radio protocol.
+#[derive(Serialize, Deserialize)]
 pub struct Leader {
     interp: Interpreter,
     st: State,

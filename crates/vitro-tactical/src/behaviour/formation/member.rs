@@ -1,6 +1,7 @@
 //! A squad member: keeps the slot its leader gives it, through its actuators only, and
 //! reports red troopers it sees.
 
+use serde::{Deserialize, Serialize};
 use super::kb::{self, Signature, answers, atom, fact};
 use super::motion::{Follow, Mover, xy};
 use super::pattern::{Pattern, Trail, slot_point};
@@ -46,7 +47,7 @@ const TRAIL_TRIES: usize = 24;
 const OWN_TRAIL: f64 = 150.0;
 
 /// Everything the member's modules read and write.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 struct State {
     leader: EntityId,
     params: FormationParams,
@@ -76,6 +77,7 @@ struct State {
 
 /// A squad member (a [`Controller`]) following the leader `leader`: see the
 /// [module docs](super). It stands still until the leader briefs it.
+#[derive(Serialize, Deserialize)]
 pub struct Member {
     interp: Option<Interpreter>,
     st: State,

@@ -1,13 +1,14 @@
 //! What the leader records: the squad's positions, its changes of formation, the orders
 //! carried out.
 
+use serde::{Deserialize, Serialize};
 use super::pattern::Pattern;
 use vitro::entity::EntityId;
 use vitro::time::SimTime;
 use vitro_site::geo::P2;
 
 /// One logged position.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TrackPoint {
     /// When.
     pub t: SimTime,
@@ -21,7 +22,7 @@ pub struct TrackPoint {
 }
 
 /// A change of formation.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Switch {
     /// When.
     pub t: SimTime,
@@ -37,7 +38,7 @@ pub struct Switch {
 }
 
 /// An order carried out.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Arrival {
     /// When `arrived` was sent.
     pub t: SimTime,

@@ -1,6 +1,7 @@
 //! A scripted radio operator: sends given messages at given times and logs what it hears
 //! (a stand-in commander for tests, examples and documentation).
 
+use serde::{Deserialize, Serialize};
 use crate::model::{Controller, Tactical};
 use crate::radio::Radio;
 use vitro::comm::{Address, Outgoing};
@@ -17,7 +18,7 @@ const SEND: TimerTag = TimerTag(0x5343);
 /// each time it hears `Signal("arrived", _)` (a list of waypoints for a leader), and logs
 /// every message it receives. It starts at its first input (e.g.
 /// [`Ev::Start`](crate::arena::Ev::Start)).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Script {
     /// What to send: when, to whom, what.
     pub plan: Vec<(SimTime, EntityId, Radio)>,

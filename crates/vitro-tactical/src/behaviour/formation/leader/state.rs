@@ -1,5 +1,6 @@
 //! The leader's state: its route, its pace and lag, and the rule modules it consults.
 
+use serde::{Deserialize, Serialize};
 use crate::behaviour::formation::FormationParams;
 use crate::behaviour::formation::ground::Ground;
 use crate::behaviour::formation::kb::Signature;
@@ -25,14 +26,14 @@ pub(super) const SQUAD: usize = 1;
 pub(super) const ROUTE: usize = 2;
 
 /// How much the squad lags: the worst member's distance to its slot.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub(super) enum Lag {
     None,
     Some,
     Far,
 }
 
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub(super) enum Pace {
     Normal,
     Slow,
@@ -40,7 +41,7 @@ pub(super) enum Pace {
 }
 
 /// An order being carried out.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub(super) struct Route {
     pub(super) follow: Follow,
     pub(super) requester: EntityId,
@@ -48,7 +49,7 @@ pub(super) struct Route {
 }
 
 /// Everything the leader's modules read and write.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub(super) struct State {
     pub(super) params: FormationParams,
     pub(super) roster: Vec<EntityId>,

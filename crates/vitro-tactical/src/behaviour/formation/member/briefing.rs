@@ -1,10 +1,11 @@
 //! The leader's briefing as a member reads it: `"<pattern> <slot> <spacing> <facing|->"` or
 //! `"none"`.
 
+use serde::{Deserialize, Serialize};
 use crate::behaviour::formation::pattern::Pattern;
 
 /// What the leader told this member.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub(super) struct Brief {
     /// The pattern.
     pub pattern: Pattern,
