@@ -48,7 +48,10 @@ fn failure(file: &Path, e: SnapshotError) -> Failure {
 pub(crate) fn resume(args: &ResumeArgs) -> Result<(), Failure> {
     let file = &args.snapshot;
     let reader = std::fs::File::open(file).map_err(|e| {
-        Failure::Input(anyhow::anyhow!("cannot read snapshot {}: {e}", file.display()))
+        Failure::Input(anyhow::anyhow!(
+            "cannot read snapshot {}: {e}",
+            file.display()
+        ))
     })?;
     let snap = Snapshot::read(std::io::BufReader::new(reader)).map_err(|e| failure(file, e))?;
     let until = args.until.map(check_until).transpose()?;
@@ -65,6 +68,7 @@ pub(crate) fn resume(args: &ResumeArgs) -> Result<(), Failure> {
         .resume(&snap, until)
         .map_err(|e| failure(file, e))?;
     let output = Output {
+        resumed: true,
         speed: args.speed,
         record: args.record.as_deref(),
         json: args.json,

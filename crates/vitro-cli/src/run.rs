@@ -33,7 +33,7 @@ pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
     // cannot be written fails before the run rather than after).
     let save = match (args.save_at, &args.save) {
         (Some(at), Some(path)) => {
-            if !(at >= 0.0 && at <= MAX_UNTIL_S) {
+            if !(0.0..=MAX_UNTIL_S).contains(&at) {
                 return Err(Failure::Input(anyhow::anyhow!(
                     "--save-at {at}: expected a number of simulated seconds in [0, {MAX_UNTIL_S:e}]"
                 )));
@@ -54,6 +54,7 @@ pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
         _ => None,
     };
     let output = Output {
+        resumed: false,
         speed: args.speed,
         record: args.record.as_deref(),
         json: args.json,
@@ -87,6 +88,9 @@ pub(crate) fn check_until(until: f64) -> Result<SimTime, Failure> {
 
 /// How a run reports: pacing, recording and what it prints.
 pub(crate) struct Output<'a> {
+    /// True for a resumed run (its recording starts with the state it resumes from; its
+    /// report says where it resumed).
+    pub(crate) resumed: bool,
     pub(crate) speed: Option<f64>,
     pub(crate) record: Option<&'a Path>,
     pub(crate) json: bool,
@@ -153,19 +157,17 @@ pub(crate) fn drive(
         None => None,
     };
     let start = run.now();
-    if start > SimTime::ZERO
+    if output.resumed
         && let Some(r) = recorder.as_mut()
     {
-        // A resumed run: its recording starts with the state it resumes from.
         r.frame(run).map_err(Failure::Runtime)?;
     }
     let started = Instant::now();
     let chunk = run.sample().max(SimDuration::from_secs(1)).as_nanos();
     // Chunks end on the same multiples of the chunk as an uninterrupted run's.
     let mut t = SimTime::from_nanos(start.as_nanos() / chunk * chunk);
-    let running = |e| {
-        Failure::Runtime(anyhow::Error::new(e).context(format!("running {}", what.display())))
-    };
+    let running =
+        |e| Failure::Runtime(anyhow::Error::new(e).context(format!("running {}", what.display())));
     loop {
         t += SimDuration::from_nanos(chunk);
         let target = t.min(run.end());
@@ -204,7 +206,7 @@ pub(crate) fn drive(
     }
     let wall = started.elapsed().as_secs_f64();
     let mut report = report(run, wall, output.speed);
-    if start > SimTime::ZERO {
+    if output.resumed {
         report["resumed_at_s"] = start.as_secs_f64().into();
     }
     if output.json {

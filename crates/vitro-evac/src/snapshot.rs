@@ -25,9 +25,9 @@ use vitro::sim::{SimState, SimStateRef, Simulation};
 use vitro::time::SimTime;
 use vitro::trace::stable_str_hash;
 use vitro_mission::SnapshotError;
+use vitro_tactical::actuate::by_level::Drive;
 use vitro_tactical::arena::{Arena, ArenaState, ArenaStateRef, Ev, site_digest};
 use vitro_tactical::behaviour::route::VisitNodes;
-use vitro_tactical::actuate::by_level::Drive;
 use vitro_tactical::model::Controller;
 use vitro_tactical::radio::Radio;
 
@@ -58,7 +58,10 @@ impl Drop for Restoring {
     }
 }
 
-fn shared<T, E: serde::de::Error>(what: &str, f: impl FnOnce(&Shared) -> Option<T>) -> Result<T, E> {
+fn shared<T, E: serde::de::Error>(
+    what: &str,
+    f: impl FnOnce(&Shared) -> Option<T>,
+) -> Result<T, E> {
     SHARED
         .with(|s| s.borrow().as_ref().and_then(f))
         .ok_or_else(|| E::custom(format!("no {what} to restore the agents with")))
@@ -134,10 +137,11 @@ macro_rules! agent_kinds {
         enum AgentRef<'a> {
             $($kind(&'a $ty),)*
         }
-        /// An agent read back.
+        /// An agent read back (boxed, as it will live: the same encoding as the borrowed
+        /// form).
         #[derive(Deserialize)]
         enum AgentOwned {
-            $($kind($ty),)*
+            $($kind(Box<$ty>),)*
         }
         #[allow(clippy::borrowed_box)] // the model's agent type is the box
         fn agent_ref(c: &Box<dyn Controller>) -> Result<AgentRef<'_>, SnapshotError> {
@@ -152,7 +156,7 @@ macro_rules! agent_kinds {
         }
         fn agent_box(a: AgentOwned) -> Result<Box<dyn Controller>, SnapshotError> {
             Ok(match a {
-                $(AgentOwned::$kind(a) => Box::new(a),)*
+                $(AgentOwned::$kind(a) => a as Box<dyn Controller>,)*
             })
         }
     };

@@ -3,8 +3,8 @@
 use crate::kind::{KindError, kind_of};
 use crate::snapshot::{Snapshot, SnapshotError};
 use crate::{BuildOptions, Mission, MissionError, Run};
-use vitro::time::SimTime;
 use std::path::{Path, PathBuf};
+use vitro::time::SimTime;
 
 /// Why a scenario file could not be given to its mission.
 #[derive(Debug, thiserror::Error)]

@@ -90,12 +90,12 @@ enum AgentRef<'a> {
     Prowler(&'a Prowler),
 }
 
-/// An agent read back.
+/// An agent read back (boxed, as it will live: the same encoding as the borrowed form).
 #[derive(Deserialize)]
 enum AgentOwned {
-    Station(Station),
-    Uav(Uav),
-    Prowler(Prowler),
+    Station(Box<Station>),
+    Uav(Box<Uav>),
+    Prowler(Box<Prowler>),
 }
 
 #[allow(clippy::borrowed_box)] // the model's agent type is the box
@@ -116,9 +116,9 @@ fn agent_ref(u: &Box<dyn Unit>) -> Result<AgentRef<'_>, SnapshotError> {
 
 fn agent_box(a: AgentOwned) -> Result<Box<dyn Unit>, SnapshotError> {
     Ok(match a {
-        AgentOwned::Station(a) => Box::new(a),
-        AgentOwned::Uav(a) => Box::new(a),
-        AgentOwned::Prowler(a) => Box::new(a),
+        AgentOwned::Station(a) => a as Box<dyn Unit>,
+        AgentOwned::Uav(a) => a as Box<dyn Unit>,
+        AgentOwned::Prowler(a) => a as Box<dyn Unit>,
     })
 }
 

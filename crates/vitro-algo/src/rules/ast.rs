@@ -1,8 +1,8 @@
 //! The syntax tree of rule programs.
 
-use serde::{Deserialize, Serialize};
 use super::error::Pos;
 use super::term::Term;
+use serde::{Deserialize, Serialize};
 
 /// One conjunct of a query.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]

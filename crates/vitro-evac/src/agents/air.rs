@@ -9,7 +9,6 @@
 //! - [`AirRole::Scout`] (Procerus): flies the route ahead of the truck;
 //! - [`Ugv`]: drives to the junctions ahead of the truck.
 
-use serde::{Deserialize, Serialize};
 use super::commander::truck_pose;
 use super::cover::{CoverPlanner, Repair, checkpoints, nearest};
 use super::overwatch::Overwatch;
@@ -18,6 +17,7 @@ use super::{Reporter, SENSE, tell};
 use crate::act::{Drive, Pilot};
 use crate::brief::{BLUE, Brief};
 use crate::sense::{Myself, Vision};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::env::NodeId;

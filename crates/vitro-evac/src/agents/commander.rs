@@ -3,12 +3,12 @@
 //! back with it, takes everybody on board, drives to the extraction point, and splits off
 //! pursuers when the high-value target is reported.
 
-use serde::{Deserialize, Serialize};
 use super::hunt::SILENT;
 use super::{SENSE, tell};
 use crate::act::{Dismount, Drive, Unload};
 use crate::brief::Brief;
 use crate::sense::Myself;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 use std::sync::Arc;
 use vitro::entity::EntityId;

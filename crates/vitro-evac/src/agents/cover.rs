@@ -20,8 +20,8 @@
 //! `max_depth` bounds a repair plan's length: a longer one is cut to its first `max_depth`
 //! steps (the rest is planned at the next repair), and the cut is counted.
 
-use serde::{Deserialize, Serialize};
 use crate::brief::Brief;
+use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro_algo::planning::{PddlSource, Planner, solve};
 use vitro_site::map::Mode;

@@ -9,8 +9,8 @@
 //! simulated thinking time) and orders each pursuer to its next node.
 //! The target does the same on its side ([`super::red::Hvt`]).
 
-use serde::{Deserialize, Serialize};
 use crate::brief::{BLUE, Brief};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;

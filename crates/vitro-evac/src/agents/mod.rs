@@ -11,8 +11,8 @@ pub mod red;
 pub mod squad;
 pub mod trooper;
 
-use serde::{Deserialize, Serialize};
 use super::brief::BLUE;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;

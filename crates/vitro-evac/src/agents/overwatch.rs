@@ -3,8 +3,8 @@
 //! `Signal(`[`SEARCH`]`, "x y")` broadcasts, so that its camera (air vision: wide range, all
 //! round) finds the target and its contact reports keep the pursuers' belief narrow.
 
-use serde::{Deserialize, Serialize};
 use super::hunt::SEARCH;
+use serde::{Deserialize, Serialize};
 use vitro_tactical::radio::Radio;
 
 /// Radius of the orbit flown around the search point, metres.

@@ -2,7 +2,6 @@
 //! that no drone watches over, and the high-value target, hidden until it shows up, then
 //! evading its pursuers with the configured anytime search.
 
-use serde::{Deserialize, Serialize};
 use super::SENSE;
 use super::hunt::Search;
 use super::hunt::TurnClock;
@@ -10,6 +9,7 @@ use super::trooper::{DECIDED, TURN};
 use crate::act::{Fire, SetStatus, Walk};
 use crate::brief::Brief;
 use crate::sense::{Myself, Vision, Watched};
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use vitro::entity::EntityId;

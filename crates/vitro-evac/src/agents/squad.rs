@@ -36,9 +36,9 @@
 //! [`Leader`] with no members): the walk actuator plans from the last walk-graph node its
 //! body passed, which free steering leaves behind.
 
-use serde::{Deserialize, Serialize};
 use crate::brief::Brief;
 use crate::sense::Fallen;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use vitro::comm::{Address, Envelope, Outgoing, Performative, Protocol};
 use vitro::entity::EntityId;

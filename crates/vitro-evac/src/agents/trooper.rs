@@ -3,13 +3,13 @@
 //! and — when sent after the high-value target — hunt it as a team (the first pursuer runs
 //! the search, see [`hunt`](super::hunt)).
 
-use serde::{Deserialize, Serialize};
 use super::hunt::{Hunt, TurnClock};
 use super::squad::{self, Part, Squad, note};
 use super::{Reporter, SENSE, tell};
 use crate::act::{ActError, Board, Capture, Walk};
 use crate::brief::{BLUE, Brief};
 use crate::sense::{Myself, Vision};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::comm::Envelope;
 use vitro::entity::EntityId;

@@ -3,11 +3,11 @@
 //! on. Every draw comes from the unit's own `"route"` stream, so a run is the same for a
 //! seed whatever else the scenario holds. They sense nothing but their own position.
 
-use serde::{Deserialize, Serialize};
 use crate::act::{Drive, Walk};
 use crate::brief::{Gait, RedBrief};
 use crate::model::{Field, Unit};
 use rand::Rng;
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::env::NodeId;
 use vitro::sim::{Context, Input};

@@ -11,11 +11,11 @@
 //!   drop ([`Net::Revoke`]) those another UAV holds meanwhile;
 //! - an area tasked during the run is cut into sectors and called.
 
-use serde::{Deserialize, Serialize};
 use crate::brief::StationBrief;
 use crate::model::{Field, Unit};
 use crate::net::{Net, TEAM};
 use crate::sector::Rect;
+use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::sync::Arc;
 use vitro::comm::{Address, Envelope, Outgoing};

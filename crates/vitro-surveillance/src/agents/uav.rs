@@ -13,13 +13,13 @@
 //! other's report. Every UAV reports its status (position, sectors, what it follows) every
 //! `heartbeat_s` and its fresh fixes every `report_s`, over the radio only.
 
-use serde::{Deserialize, Serialize};
 use super::plan::{cost, search_route, watch};
 use crate::act::Pilot;
 use crate::brief::{Airframe, TeamBrief};
 use crate::model::{Field, Unit};
 use crate::net::{Net, TEAM};
 use crate::sector::{Rect, centre, dist};
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use vitro::comm::{Address, Outgoing};

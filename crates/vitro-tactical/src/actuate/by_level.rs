@@ -11,12 +11,12 @@
 //! # let _ = (trooper, uav);
 //! ```
 
-use serde::{Deserialize, Serialize};
 use crate::actuate::{MoveError, ground, troop};
 use crate::arena::{Arena, Ev};
 use crate::autopilot::{self, FlyError};
 use crate::entity::Level;
 use crate::entity::air::FlightCommand;
+use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::env::{Actuator, Effects, NodeId};
 

@@ -146,7 +146,11 @@ impl Arena {
                 filled += 1;
             }
         });
-        let under_way = self.at_node.iter().filter(|(_, b)| b.trip.is_some()).count();
+        let under_way = self
+            .at_node
+            .iter()
+            .filter(|(_, b)| b.trip.is_some())
+            .count();
         if filled != trips.len() || filled != under_way {
             return Err(RestoreError(format!(
                 "{under_way} trips under way, {} tracks for them",

@@ -79,7 +79,9 @@ pub struct SimStateRef<'a, E, A, Ev, Msg> {
 
 /// A simulation's saved state, owned: what [`SimStateRef`] wrote, read back.
 #[derive(Deserialize)]
-#[serde(bound(deserialize = "E: Deserialize<'de>, A: Deserialize<'de>, Ev: Deserialize<'de>, Msg: Deserialize<'de>"))]
+#[serde(bound(
+    deserialize = "E: Deserialize<'de>, A: Deserialize<'de>, Ev: Deserialize<'de>, Msg: Deserialize<'de>"
+))]
 pub struct SimState<E, A, Ev, Msg> {
     env: E,
     agents: Vec<Option<A>>,

@@ -52,11 +52,11 @@
 //! map is where its policy puts it in the long run at the current phase
 //! ([`PatrolGame::heat`]).
 
-use serde::{Deserialize, Serialize};
 use crate::brief::Brief;
 use crate::error::MissionError;
 use board::{Board, project, targets};
 use rand::Rng;
+use serde::{Deserialize, Serialize};
 use std::sync::{Arc, Mutex};
 use vitro_algo::graph::{Graph, NodeId};
 use vitro_algo::patrol::{PatrolPlan, PlanParams, Target};

@@ -1,10 +1,10 @@
 //! How the leader tells a street from open ground (see the [module docs](super)): the free
 //! distance across its route, left and right, at a few points ahead.
 
-use serde::{Deserialize, Serialize};
 use super::FormationParams;
 use super::sense::SideClearance;
 use crate::model::Tactical;
+use serde::{Deserialize, Serialize};
 use vitro::sim::Context;
 use vitro_site::geo::{P2, dist};
 

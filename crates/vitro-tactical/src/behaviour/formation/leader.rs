@@ -1,7 +1,6 @@
 //! The squad leader: takes orders, walks the walk graph with the squad in formation, and
 //! runs the leader's rule program (formation, pace, arrival).
 
-use serde::{Deserialize, Serialize};
 use super::ground::{self, Ground};
 use super::kb::{self};
 use super::motion::{Mover, xy};
@@ -15,6 +14,7 @@ use crate::entity::{Level, Pose};
 use crate::model::{Controller, Tactical};
 use crate::radio::{Order, Radio};
 use crate::world::Side;
+use serde::{Deserialize, Serialize};
 use vitro::comm::{Address, Envelope, Outgoing};
 use vitro::entity::EntityId;
 use vitro::protocol::TimerTag;

@@ -1,12 +1,12 @@
 //! A squad member: keeps the slot its leader gives it, through its actuators only, and
 //! reports red troopers it sees.
 
-use serde::{Deserialize, Serialize};
 use super::kb::{self, Signature, answers, atom, fact};
 use super::motion::{Follow, Mover, xy};
 use super::pattern::{Pattern, Trail, slot_point};
 use super::sense::{ClearWay, FreeSlot, Gait, Hostile, Hostiles, NextNode, WalkRoute};
 use super::{FormationError, FormationParams, MEMBER_PROGRAM};
+use serde::{Deserialize, Serialize};
 
 mod briefing;
 use crate::arena::{Ev, OwnPose, TrackTarget};

@@ -1,13 +1,13 @@
 //! Moving a trooper through its actuators at whatever level its body is: `MoveAndTurn` at
 //! the directed level, `WalkToNode` hops at the discrete level; and following a route.
 
-use serde::{Deserialize, Serialize};
 use super::sense::{ClearWay, Leg, NearestNode};
 use crate::actuate::MoveError;
 use crate::actuate::troop::{directed::MoveAndTurn, discrete::WalkToNode};
 use crate::entity::troop::StepCmd;
 use crate::entity::{Level, Pose};
 use crate::model::Tactical;
+use serde::{Deserialize, Serialize};
 use vitro::env::NodeId;
 use vitro::sim::Context;
 use vitro_site::geo::{P2, dist};

@@ -1,8 +1,8 @@
 //! What the leader records: the squad's positions, its changes of formation, the orders
 //! carried out.
 
-use serde::{Deserialize, Serialize};
 use super::pattern::Pattern;
+use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::time::SimTime;
 use vitro_site::geo::P2;

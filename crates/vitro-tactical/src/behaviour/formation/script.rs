@@ -1,9 +1,9 @@
 //! A scripted radio operator: sends given messages at given times and logs what it hears
 //! (a stand-in commander for tests, examples and documentation).
 
-use serde::{Deserialize, Serialize};
 use crate::model::{Controller, Tactical};
 use crate::radio::Radio;
+use serde::{Deserialize, Serialize};
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;
 use vitro::protocol::TimerTag;

@@ -12,11 +12,11 @@
 //! - [`Gait`]: the body's own walking speed on the level;
 //! - [`Hostiles`]: red troopers in range and in line of sight.
 
-use serde::{Deserialize, Serialize};
 use crate::arena::Arena;
 use crate::entity::discrete::NodeKind;
 use crate::entity::route::Track;
 use crate::types::TroopKind;
+use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::env::{NodeId, Probe, Sensor};
 use vitro_site::geo::{P2, dist};

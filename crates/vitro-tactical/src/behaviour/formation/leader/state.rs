@@ -1,6 +1,5 @@
 //! The leader's state: its route, its pace and lag, and the rule modules it consults.
 
-use serde::{Deserialize, Serialize};
 use crate::behaviour::formation::FormationParams;
 use crate::behaviour::formation::ground::Ground;
 use crate::behaviour::formation::kb::Signature;
@@ -8,6 +7,7 @@ use crate::behaviour::formation::motion::{Follow, Mover};
 use crate::behaviour::formation::pattern::{Pattern, Trail};
 use crate::behaviour::formation::record::{Arrival, Switch, TrackPoint};
 use crate::entity::Pose;
+use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::time::{SimDuration, SimTime};
 use vitro_site::geo::P2;

@@ -1,8 +1,8 @@
 //! The leader's briefing as a member reads it: `"<pattern> <slot> <spacing> <facing|->"` or
 //! `"none"`.
 
-use serde::{Deserialize, Serialize};
 use crate::behaviour::formation::pattern::Pattern;
+use serde::{Deserialize, Serialize};
 
 /// What the leader told this member.
 #[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
