@@ -151,7 +151,8 @@ struct State {
 }
 
 impl Operation {
-    /// The run's whole state as bytes (see the [module](self)). Does not change the run.
+    /// The run's whole state as bytes: everything but the static world and the shared
+    /// briefings, which a restore takes from a fresh build. Does not change the run.
     ///
     /// # Errors
     /// [`SnapshotError::Unsupported`] if an agent is of a kind the mission does not save.
