@@ -1,7 +1,8 @@
 //! `vitro`: the command-line front end of the Vitro toolkit.
 //!
 //! ```text
-//! vitro run SCENARIO [--seed N] [--until SECONDS] [--speed X] [--json] [--quiet]
+//! vitro run SCENARIO [--seed N] [--until SECONDS] [--speed X] [--json] [--quiet] [--save-at SECONDS --save FILE]
+//! vitro resume FILE [--until SECONDS] [--json|--quiet] [--record RUN.mcap]
 //! vitro validate SCENARIO
 //! vitro plan DOMAIN PROBLEM [--optimal] [--json]
 //! vitro solve cops GRAPH.edges [--json]
@@ -27,6 +28,7 @@ mod map;
 mod missions;
 mod plan;
 mod record;
+mod resume;
 mod run;
 mod run_args;
 mod search;
@@ -53,6 +55,8 @@ struct Cli {
 enum Command {
     /// Runs a scenario and reports its metrics.
     Run(run_args::RunArgs),
+    /// Continues a run saved with `vitro run ... --save-at SECONDS --save FILE`.
+    Resume(resume::ResumeArgs),
     /// Finds a plan for a PDDL problem (STRIPS with typing).
     Plan(plan::PlanArgs),
     /// Solves a game: `vitro solve cops GRAPH.edges`.
@@ -91,6 +95,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run::run(&args),
+        Command::Resume(args) => resume::resume(&args),
         Command::Validate { scenario } => validate::validate(&scenario),
         Command::Batch(args) => batch::batch(&args),
         Command::Search(args) => search::search(&args),

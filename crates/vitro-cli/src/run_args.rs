@@ -25,6 +25,13 @@ pub(crate) struct RunArgs {
     /// Records the run to an MCAP file (Foxglove schemas) — mission scenarios only.
     #[arg(long, value_name = "FILE.mcap")]
     pub(crate) record: Option<PathBuf>,
+    /// Saves the run's state at this simulated time to the file --save names (the run goes
+    /// on to its end); `vitro resume FILE` continues it.
+    #[arg(long, value_name = "SECONDS", requires = "save")]
+    pub(crate) save_at: Option<f64>,
+    /// The snapshot file --save-at writes.
+    #[arg(long, value_name = "FILE", requires = "save_at")]
+    pub(crate) save: Option<PathBuf>,
     /// Prints one JSON object on stdout instead of the summary.
     #[arg(long)]
     pub(crate) json: bool,

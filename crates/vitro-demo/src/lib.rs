@@ -29,6 +29,7 @@
 pub mod config;
 pub mod patrol;
 mod plugin;
+mod snapshot;
 pub mod town;
 pub mod view;
 pub mod world;

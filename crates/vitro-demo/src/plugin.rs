@@ -210,4 +210,12 @@ impl Run for DemoView {
         let t = self.now().as_nanos();
         DemoView::frame(self, t)
     }
+
+    fn save_state(&self) -> Result<Vec<u8>, vitro_mission::SnapshotError> {
+        DemoView::save_state(self)
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> Result<(), vitro_mission::SnapshotError> {
+        DemoView::restore_state(self, state)
+    }
 }

@@ -18,38 +18,18 @@ const MARGIN_M: f64 = 60.0;
 /// A demo run with what its pictures need: the messages heard since the last frame and each
 /// car's last shown pose.
 pub struct DemoView {
-    scenario: Scenario,
+    pub(crate) scenario: Scenario,
     /// Messages delivered or bounced since the last frame (filled by a listener).
-    heard: Arc<Mutex<Vec<MessageEvent>>>,
+    pub(crate) heard: Arc<Mutex<Vec<MessageEvent>>>,
     /// Each car's last shown position and time, for its heading and speed.
-    last: BTreeMap<u32, ([f64; 2], u64, f64)>,
+    pub(crate) last: BTreeMap<u32, ([f64; 2], u64, f64)>,
 }
 
 impl DemoView {
     /// Wraps a built scenario (adds a listener that collects the messages for the frames).
     pub fn new(mut scenario: Scenario) -> Self {
         let heard = Arc::new(Mutex::new(Vec::new()));
-        let sink = heard.clone();
-        scenario
-            .simulation_mut()
-            .add_listener(move |fired: &vitro::sim::Fired<'_, Demo>| {
-                let (e, delivered) = match fired.input {
-                    Input::Message(e) => (e, true),
-                    Input::Undeliverable(e, _) => (e, false),
-                    _ => return,
-                };
-                let kind = match e.body {
-                    PatrolMsg::Claim { .. } => "claim",
-                };
-                let m = MessageEvent {
-                    t_ns: e.sent_at.as_nanos(),
-                    from: e.from.0,
-                    to: Some(e.receiver.0),
-                    kind: kind.to_owned(),
-                    delivered,
-                };
-                sink.lock().unwrap_or_else(|p| p.into_inner()).push(m);
-            });
+        listen(&mut scenario, &heard);
         DemoView {
             scenario,
             heard,
@@ -315,4 +295,29 @@ impl DemoView {
     pub fn trace_hash(&self) -> u64 {
         self.scenario.simulation().trace_hash()
     }
+}
+
+/// Collects the messages of `scenario`'s run into `heard` for the frames.
+pub(crate) fn listen(scenario: &mut Scenario, heard: &Arc<Mutex<Vec<MessageEvent>>>) {
+    let sink = heard.clone();
+    scenario
+        .simulation_mut()
+        .add_listener(move |fired: &vitro::sim::Fired<'_, Demo>| {
+            let (e, delivered) = match fired.input {
+                Input::Message(e) => (e, true),
+                Input::Undeliverable(e, _) => (e, false),
+                _ => return,
+            };
+            let kind = match e.body {
+                PatrolMsg::Claim { .. } => "claim",
+            };
+            let m = MessageEvent {
+                t_ns: e.sent_at.as_nanos(),
+                from: e.from.0,
+                to: Some(e.receiver.0),
+                kind: kind.to_owned(),
+                delivered,
+            };
+            sink.lock().unwrap_or_else(|p| p.into_inner()).push(m);
+        });
 }

@@ -77,7 +77,7 @@ impl Actuator<Arena, Ev> for Board {
 
 /// Lets passengers out of the acting vehicle: each named passenger aboard gets a body at
 /// the walk-graph node nearest the vehicle, at `level`.
-#[derive(Copy, Clone, Debug)]
+#[derive(Copy, Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Dismount {
     /// The troopers' level.
     pub level: Level,

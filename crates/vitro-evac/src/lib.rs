@@ -31,6 +31,7 @@ mod plugin;
 pub mod referee;
 pub mod sense;
 mod setup;
+mod snapshot;
 pub mod view;
 
 use brief::Brief;
@@ -51,7 +52,7 @@ use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile, Validated};
 use vitro_tactical::world::Side;
 
 /// What the listener collects between samples.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 struct Heard {
     contacts: Vec<(SimTime, EntityId)>,
     messages: Vec<vitro_record::MessageEvent>,
@@ -155,32 +156,7 @@ impl Mission {
             .collect();
         let heard = Arc::new(Mutex::new(Heard::default()));
         let mut sim = built.sim;
-        let sink = heard.clone();
-        sim.add_listener(move |f| {
-            let Ok(mut h) = sink.lock() else { return };
-            match &f.input {
-                Input::Message(env) => {
-                    if let Radio::Contact { target, .. } = &env.body {
-                        h.contacts.push((f.time, *target));
-                    }
-                    h.messages.push(vitro_record::MessageEvent {
-                        t_ns: f.time.as_nanos(),
-                        from: env.from.0,
-                        to: Some(env.receiver.0),
-                        kind: radio_kind(&env.body).into(),
-                        delivered: true,
-                    });
-                }
-                Input::Undeliverable(env, _) => h.messages.push(vitro_record::MessageEvent {
-                    t_ns: f.time.as_nanos(),
-                    from: env.from.0,
-                    to: None,
-                    kind: radio_kind(&env.body).into(),
-                    delivered: false,
-                }),
-                _ => {}
-            }
-        });
+        listen(&mut sim, &heard);
         let adversaries = built
             .members
             .iter()
@@ -311,6 +287,36 @@ impl Mission {
         }
         m
     }
+}
+
+/// Collects the contacts and messages of `sim` into `heard` between samples.
+fn listen(sim: &mut Simulation<Tactical>, heard: &Arc<Mutex<Heard>>) {
+    let sink = heard.clone();
+    sim.add_listener(move |f| {
+        let Ok(mut h) = sink.lock() else { return };
+        match &f.input {
+            Input::Message(env) => {
+                if let Radio::Contact { target, .. } = &env.body {
+                    h.contacts.push((f.time, *target));
+                }
+                h.messages.push(vitro_record::MessageEvent {
+                    t_ns: f.time.as_nanos(),
+                    from: env.from.0,
+                    to: Some(env.receiver.0),
+                    kind: radio_kind(&env.body).into(),
+                    delivered: true,
+                });
+            }
+            Input::Undeliverable(env, _) => h.messages.push(vitro_record::MessageEvent {
+                t_ns: f.time.as_nanos(),
+                from: env.from.0,
+                to: None,
+                kind: radio_kind(&env.body).into(),
+                delivered: false,
+            }),
+            _ => {}
+        }
+    });
 }
 
 /// True once the mission is over: the VIP is down, or it is out and no hunt goes on (the

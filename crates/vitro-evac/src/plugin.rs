@@ -273,6 +273,14 @@ impl Run for Mission {
         Mission::frame(self)
     }
 
+    fn save_state(&self) -> Result<Vec<u8>, vitro_mission::SnapshotError> {
+        Mission::save_state(self)
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> Result<(), vitro_mission::SnapshotError> {
+        Mission::restore_state(self, state)
+    }
+
     fn drain_log(&mut self) -> Vec<(f64, String)> {
         std::mem::take(&mut self.referee.log)
             .into_iter()

@@ -3,7 +3,7 @@
 //! listener (contact reports, messages).
 
 use crate::sense::covered;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use vitro::entity::EntityId;
 use vitro::time::SimTime;
@@ -12,7 +12,7 @@ use vitro_tactical::condition::{Role, Status};
 use vitro_tactical::world::Side;
 
 /// The mission's metrics.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {
     /// The VIP reached the extraction point.
     pub success: bool,
@@ -73,7 +73,7 @@ pub struct Metrics {
 }
 
 /// The referee's running state.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Referee {
     /// The metrics so far.
     pub metrics: Metrics,

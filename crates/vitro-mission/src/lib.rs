@@ -45,10 +45,12 @@ pub mod batch;
 mod kind;
 mod metric;
 mod registry;
+pub mod snapshot;
 
 pub use kind::{KindError, kind_of};
 pub use metric::Metric;
 pub use registry::{Registry, RegistryError};
+pub use snapshot::{Snapshot, SnapshotError};
 
 use std::path::Path;
 use vitro::sim::Control;
@@ -219,5 +221,26 @@ pub trait Run {
     /// What happened since the last call, as (simulated seconds, line), for `--verbose`.
     fn drain_log(&mut self) -> Vec<(f64, String)> {
         Vec::new()
+    }
+    /// The run's whole state (environment, physics, agents, queue, random streams, trace,
+    /// referee), for a [`Snapshot`]; the static world is left out (rebuilt from the scenario).
+    /// Must not change the run. By default the mission cannot save.
+    ///
+    /// # Errors
+    /// [`SnapshotError::Unsupported`] if the mission cannot save its runs.
+    fn save_state(&self) -> Result<Vec<u8>, SnapshotError> {
+        Err(SnapshotError::Unsupported(self.name()))
+    }
+    /// Puts the state [`save_state`](Self::save_state) made into this run, a fresh build of
+    /// the same scenario with the same options: the run then goes on as the saved one would
+    /// have.
+    ///
+    /// # Errors
+    /// [`SnapshotError::Corrupt`] if the state does not decode,
+    /// [`SnapshotError::Mismatch`] if the rebuilt world is not the one saved,
+    /// [`SnapshotError::Unsupported`] by default.
+    fn restore_state(&mut self, state: &[u8]) -> Result<(), SnapshotError> {
+        let _ = state;
+        Err(SnapshotError::Unsupported(self.name()))
     }
 }

@@ -1,8 +1,10 @@
 //! The registry: every mission a tool knows, by kind.
 
 use crate::kind::{KindError, kind_of};
+use crate::snapshot::{Snapshot, SnapshotError};
 use crate::{BuildOptions, Mission, MissionError, Run};
 use std::path::{Path, PathBuf};
+use vitro::time::SimTime;
 
 /// Why a scenario file could not be given to its mission.
 #[derive(Debug, thiserror::Error)]
@@ -120,5 +122,40 @@ impl Registry {
     ) -> Result<Box<dyn Run>, RegistryError> {
         let (mission, text) = self.read(file)?;
         Ok(mission.build(file, &text, options)?)
+    }
+
+    /// The run a snapshot holds, ready to go on: its scenario built again with its options,
+    /// its state restored, and its time and trace hash checked against the snapshot's. It
+    /// ends where the saved run would have, or at `until` (no later than the scenario's own
+    /// end).
+    ///
+    /// # Errors
+    /// [`SnapshotError::UnknownKind`], [`SnapshotError::Build`], or the mission's
+    /// [`Run::restore_state`] errors.
+    pub fn resume(
+        &self,
+        snap: &Snapshot,
+        until: Option<SimTime>,
+    ) -> Result<Box<dyn Run>, SnapshotError> {
+        let mission = self
+            .get(&snap.kind)
+            .ok_or_else(|| SnapshotError::UnknownKind(snap.kind.clone()))?;
+        let path = Path::new(&snap.scenario);
+        let mut run = mission
+            .build(path, &snap.text, &snap.options())
+            .map_err(|e| SnapshotError::Build(e.to_string()))?;
+        let end = until.map_or(SimTime::from_nanos(snap.end_ns), |u| u.min(run.end()));
+        run.set_end(end);
+        run.restore_state(&snap.state)?;
+        if run.now().as_nanos() != snap.saved_at_ns || run.trace_hash() != snap.trace_hash {
+            return Err(SnapshotError::Mismatch(format!(
+                "the restored run is at {:.3} s with trace hash {:016x}, the snapshot says {:.3} s and {:016x}",
+                run.now().as_secs_f64(),
+                run.trace_hash(),
+                snap.saved_at_ns as f64 / 1e9,
+                snap.trace_hash
+            )));
+        }
+        Ok(run)
     }
 }

@@ -66,7 +66,7 @@ pub struct TeamBrief {
 }
 
 /// What one UAV is told about itself.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Airframe {
     /// Its level of fidelity.
     pub level: Level,
@@ -107,7 +107,7 @@ pub struct RedBrief {
 }
 
 /// How one red unit moves.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Gait {
     /// On foot (walk graph) or by road (drive graph).
     pub mode: Mode,

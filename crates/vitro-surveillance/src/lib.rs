@@ -56,6 +56,7 @@ pub mod scenario;
 pub mod sector;
 pub mod sense;
 pub mod setup;
+mod snapshot;
 pub mod view;
 
 pub use plugin::Surveillance;
@@ -92,7 +93,7 @@ pub enum SurveillanceError {
 }
 
 /// Messages heard on the radio, for the frames (collected once a frame was asked for).
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 struct Heard {
     on: bool,
     messages: Vec<vitro_record::MessageEvent>,
@@ -166,25 +167,7 @@ impl Operation {
         let built = setup::build(v, seed)?;
         let heard = Arc::new(Mutex::new(Heard::default()));
         let mut sim = built.sim;
-        let sink = heard.clone();
-        sim.add_listener(move |f| {
-            let Ok(mut h) = sink.lock() else { return };
-            if !h.on {
-                return;
-            }
-            let (env, delivered) = match &f.input {
-                Input::Message(env) => (*env, true),
-                Input::Undeliverable(env, _) => (*env, false),
-                _ => return,
-            };
-            h.messages.push(vitro_record::MessageEvent {
-                t_ns: f.time.as_nanos(),
-                from: env.from.0,
-                to: delivered.then_some(env.receiver.0),
-                kind: env.body.kind().into(),
-                delivered,
-            });
-        });
+        listen(&mut sim, &heard);
         Ok(Operation {
             sim,
             members: built.members,
@@ -293,4 +276,27 @@ impl Operation {
             Err(_) => Vec::new(),
         }
     }
+}
+
+/// Collects the messages of `sim` into `heard` for the frames (once a frame was asked for).
+fn listen(sim: &mut Simulation<Field>, heard: &Arc<Mutex<Heard>>) {
+    let sink = heard.clone();
+    sim.add_listener(move |f| {
+        let Ok(mut h) = sink.lock() else { return };
+        if !h.on {
+            return;
+        }
+        let (env, delivered) = match &f.input {
+            Input::Message(env) => (*env, true),
+            Input::Undeliverable(env, _) => (*env, false),
+            _ => return,
+        };
+        h.messages.push(vitro_record::MessageEvent {
+            t_ns: f.time.as_nanos(),
+            from: env.from.0,
+            to: delivered.then_some(env.receiver.0),
+            kind: env.body.kind().into(),
+            delivered,
+        });
+    });
 }

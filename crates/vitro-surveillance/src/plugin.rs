@@ -289,4 +289,12 @@ impl Run for Operation {
             .map(|(t, line)| (t.as_secs_f64(), line))
             .collect()
     }
+
+    fn save_state(&self) -> Result<Vec<u8>, vitro_mission::SnapshotError> {
+        Operation::save_state(self)
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> Result<(), vitro_mission::SnapshotError> {
+        Operation::restore_state(self, state)
+    }
 }

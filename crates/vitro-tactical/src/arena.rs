@@ -39,6 +39,9 @@ use vitro::trace::TraceHasher;
 use vitro_site::map::Mode;
 use vitro_site::site::Site;
 
+mod snapshot;
+pub use snapshot::{ArenaState, ArenaStateRef, RestoreError, site_digest};
+
 /// A fixed-step clock of the arena.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Clock {

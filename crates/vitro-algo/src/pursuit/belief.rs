@@ -9,7 +9,7 @@ use rand::Rng;
 /// Invariant: `prob[v] > 0` exactly for members (up to floating-point underflow, which is
 /// guarded against by keeping membership separately), and the probabilities sum to 1 when the
 /// set is not empty.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Belief {
     member: Vec<bool>,
     prob: Vec<f64>,

@@ -27,7 +27,7 @@ use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
 
 /// Settings of [`Mcts`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MctsConfig {
     /// Iterations (simulations) per move, and an optional time limit.
     pub budget: Budget,
@@ -51,7 +51,7 @@ impl Default for MctsConfig {
 }
 
 /// Information-set MCTS, usable for either side (see the [module docs](crate::pursuit)).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Mcts {
     /// Settings.
     pub config: MctsConfig,

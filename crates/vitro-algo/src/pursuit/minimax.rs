@@ -23,7 +23,7 @@ use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
 
 /// Settings of [`Minimax`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MinimaxConfig {
     /// Node expansions per move (and an optional time limit).
     pub budget: Budget,
@@ -47,7 +47,7 @@ impl Default for MinimaxConfig {
 }
 
 /// Iterative-deepening minimax, usable for either side (see the [module docs](crate::pursuit)).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Minimax {
     /// Settings.
     pub config: MinimaxConfig,

@@ -305,7 +305,7 @@ impl Arena {
 
 /// How much a search may do before answering: iterations (MCTS simulations, or minimax node
 /// expansions) and optionally wall time. Only the iteration budget is reproducible.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Budget {
     /// Most iterations (at least one is always done).
     pub iterations: u64,

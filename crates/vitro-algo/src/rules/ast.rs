@@ -2,9 +2,10 @@
 
 use super::error::Pos;
 use super::term::Term;
+use serde::{Deserialize, Serialize};
 
 /// One conjunct of a query.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub(crate) enum Literal {
     /// `module [term]`, or `not module [term]`.
     Ask {
@@ -22,7 +23,7 @@ pub(crate) enum Literal {
 }
 
 /// A statement.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub(crate) enum Stmt {
     /// `when query then body`.
     When {
@@ -51,7 +52,7 @@ pub(crate) enum Stmt {
 }
 
 /// `define name(params) body end`.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub(crate) struct MacroDef {
     pub name: String,
     pub params: Vec<Term>,

@@ -1,9 +1,12 @@
 //! Errors of rule programs: where (file, line, column) and what.
 
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 /// A 1-based line and column (in characters).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default, Serialize, Deserialize,
+)]
 pub struct Pos {
     /// Line.
     pub line: u32,

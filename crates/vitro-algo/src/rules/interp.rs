@@ -1,5 +1,6 @@
 //! The interpreter: one deliberation cycle of a program against an agent's modules.
 
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 use std::fmt;
 
@@ -20,7 +21,7 @@ use super::term::{Bindings, Term, unify};
 /// assert_eq!(p.modules(), ["beliefs", "goals"]);
 /// # Ok::<(), vitro_algo::rules::RuleError>(())
 /// ```
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Program {
     name: String,
     body: Stmt,
@@ -66,7 +67,7 @@ impl Program {
 }
 
 /// An update that failed during a cycle.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct CycleError {
     /// Where the update is written.
     pub pos: Pos,
@@ -89,7 +90,7 @@ impl fmt::Display for CycleError {
 }
 
 /// What one deliberation cycle did.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Cycle {
     /// Rules whose query succeeded and whose body ran.
     pub fired: usize,
@@ -100,7 +101,7 @@ pub struct Cycle {
 }
 
 /// A program ready to run against a set of modules (names and operations checked).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Interpreter {
     program: Program,
 }

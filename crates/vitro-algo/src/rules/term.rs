@@ -1,6 +1,7 @@
 //! Terms (Prolog-like: atoms, integers, strings, variables, compounds), substitutions and
 //! unification.
 
+use serde::{Deserialize, Serialize};
 use std::cmp::Ordering;
 use std::collections::BTreeMap;
 use std::fmt;
@@ -11,7 +12,7 @@ use super::error::Pos;
 /// A variable: its name and the macro expansion it belongs to (0 outside macros), so that
 /// the variables of two expansions of one macro never meet. Its position is where it was
 /// written, for messages; it takes no part in comparisons.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Var {
     /// The name as written, e.g. `X`.
     pub name: String,
@@ -66,7 +67,7 @@ impl Hash for Var {
 /// assert!(t.is_ground());
 /// # Ok::<(), vitro_algo::rules::RuleError>(())
 /// ```
-#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Term {
     /// A name starting with a lower-case letter: `gate`.
     Atom(String),

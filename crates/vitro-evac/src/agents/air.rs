@@ -16,6 +16,7 @@ use super::{Reporter, SENSE, last_known, note_friends, tell};
 use crate::act::{Drive, Pilot};
 use crate::brief::{BLUE, Brief};
 use crate::sense::{Myself, Vision};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
@@ -39,7 +40,7 @@ const OVERWATCH: u64 = 41;
 const OVERWATCH_S: f64 = 20.0;
 
 /// What an aircraft does.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum AirRole {
     /// Randomized patrol around the convoy.
     Patrol,
@@ -71,8 +72,9 @@ pub fn progress(brief: &Brief, p: [f64; 3]) -> usize {
 }
 
 /// A UAV of the team.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Aircraft {
+    #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
     pilot: Pilot,
     /// What it does.
@@ -451,8 +453,9 @@ impl Controller for Aircraft {
 }
 
 /// The unmanned ground vehicle: drives to the route junctions ahead of the truck.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Ugv {
+    #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
     drive: Drive,
     reporter: Reporter,

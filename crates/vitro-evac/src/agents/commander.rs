@@ -8,6 +8,7 @@ use super::{SENSE, tell};
 use crate::act::{Dismount, Drive, Unload};
 use crate::brief::Brief;
 use crate::sense::Myself;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 use std::sync::Arc;
 use vitro::entity::EntityId;
@@ -30,7 +31,7 @@ const PATIENCE_S: f64 = 600.0;
 const REPEAT_S: f64 = 30.0;
 
 /// Where the mission stands.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Phase {
     /// Driving to the safehouse.
     Out,
@@ -47,7 +48,7 @@ pub enum Phase {
 }
 
 /// The squad walking in formation during the pickup, as the commander made it.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Squad {
     /// Who leads it (and is ordered where to go).
     pub leader: EntityId,
@@ -58,8 +59,9 @@ pub struct Squad {
 }
 
 /// The truck's controller.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Commander {
+    #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
     drive: Drive,
     dismount: Dismount,

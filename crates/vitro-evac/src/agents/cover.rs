@@ -21,6 +21,7 @@
 //! steps (the rest is planned at the next repair), and the cut is counted.
 
 use crate::brief::Brief;
+use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro_algo::planning::{PddlSource, Planner, solve};
 use vitro_site::map::Mode;
@@ -68,7 +69,7 @@ pub fn nearest(points: &[[f64; 3]], p: [f64; 3]) -> usize {
 
 /// What a repair produced: each Vidar's new steps (checkpoint indices) and whether they
 /// replace its current steps.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Repair {
     /// Per Vidar (in team order): the checkpoints to fly to, in order.
     pub steps: Vec<Vec<usize>>,
@@ -81,7 +82,7 @@ pub struct Repair {
 }
 
 /// The lead Vidar's planner state.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CoverPlanner {
     /// The Vidars, in team order (the lead first).
     pub team: Vec<EntityId>,

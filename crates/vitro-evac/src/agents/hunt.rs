@@ -10,6 +10,7 @@
 //! The target does the same on its side ([`super::red::Hvt`]).
 
 use crate::brief::{BLUE, Brief};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;
@@ -46,7 +47,7 @@ pub const SILENT: &str = "silent";
 pub type Board = vitro_algo::pursuit::Arena;
 
 /// One of the two searches, for either side.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub enum Search {
     /// Information-set Monte-Carlo tree search.
     Mcts(Mcts),
@@ -101,7 +102,7 @@ impl Search {
 /// at a time. A turn starts when the player's move ends (no sooner than [`MIN_TURN`] after
 /// the previous one began) or, failing an arrival, after a long fallback delay; whichever
 /// comes first replaces the other.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Serialize, Deserialize)]
 pub struct TurnClock {
     pending: Option<OwnEventId>,
     began: SimTime,
@@ -133,7 +134,7 @@ impl TurnClock {
 pub const MIN_TURN: SimDuration = SimDuration::from_secs(10);
 
 /// What the lead does after a turn's bookkeeping.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum HuntStep {
     /// The search ran; send the orders after this much thinking time.
     Think(SimDuration),
@@ -142,8 +143,9 @@ pub enum HuntStep {
 }
 
 /// The lead pursuer's state.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Hunt {
+    #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
     /// Who is hunted.
     pub target: EntityId,

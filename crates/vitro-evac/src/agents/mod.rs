@@ -12,6 +12,7 @@ pub mod squad;
 pub mod trooper;
 
 use super::brief::{BLUE, Brief};
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;
@@ -30,7 +31,7 @@ pub(crate) const SENSE: u64 = 1;
 const REPORT_AGAIN: SimDuration = SimDuration::from_secs(30);
 
 /// Reports hostile sightings to the blue group, each target at most once per 30 s.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Reporter {
     last: BTreeMap<EntityId, SimTime>,
     /// Contact reports sent.

@@ -4,13 +4,14 @@
 //! round) finds the target and its contact reports keep the pursuers' belief narrow.
 
 use super::hunt::SEARCH;
+use serde::{Deserialize, Serialize};
 use vitro_tactical::radio::Radio;
 
 /// Radius of the orbit flown around the search point, metres.
 const ORBIT_M: f64 = 120.0;
 
 /// What an aircraft knows of the hunt: the latest search point, if any.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Overwatch {
     /// The latest search point (world x, y).
     pub point: Option<[f64; 2]>,

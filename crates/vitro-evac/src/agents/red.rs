@@ -9,6 +9,7 @@ use super::trooper::{DECIDED, TURN};
 use crate::act::{Fire, SetStatus, Walk};
 use crate::brief::Brief;
 use crate::sense::{Myself, Vision, Watched};
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use vitro::entity::EntityId;
@@ -23,8 +24,9 @@ use vitro_tactical::model::{Controller, Intention, Tactical};
 use vitro_tactical::world::Side;
 
 /// A red adversary hiding at a node.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Adversary {
+    #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
     aim: BTreeMap<EntityId, SimTime>,
     /// Shots fired.
@@ -110,8 +112,9 @@ impl Controller for Adversary {
 const APPEAR: u64 = 30;
 
 /// The high-value target: hidden, then evading.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Hvt {
+    #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
     walk: Walk,
     search: Search,

@@ -38,6 +38,7 @@
 
 use crate::brief::Brief;
 use crate::sense::Fallen;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use vitro::comm::{Address, Envelope, Outgoing, Performative, Protocol};
 use vitro::entity::EntityId;
@@ -59,6 +60,7 @@ pub(crate) fn is_tick(key: u64) -> bool {
 }
 
 /// What the trooper does in the squad.
+#[derive(Serialize, Deserialize)]
 pub(crate) enum Part {
     /// Leads it, walking to `goal` (world x, y) if it was given one.
     Lead {
@@ -72,6 +74,7 @@ pub(crate) enum Part {
 }
 
 /// A trooper's part in the squad, with the formation controller it embeds.
+#[derive(Serialize, Deserialize)]
 pub(crate) struct Squad {
     /// Leader or member.
     pub part: Part,

@@ -9,6 +9,7 @@ use super::{Reporter, SENSE, last_known, note_friends, tell};
 use crate::act::{ActError, Board, Capture, Walk};
 use crate::brief::{BLUE, Brief};
 use crate::sense::{Myself, Vision};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::comm::Envelope;
 use vitro::entity::EntityId;
@@ -34,7 +35,7 @@ pub(crate) const TURN: u64 = 20;
 pub(crate) const DECIDED: u64 = 21;
 
 /// What a trooper is doing.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Task {
     /// Nothing (or riding).
     Idle,
@@ -52,8 +53,9 @@ pub enum Task {
 }
 
 /// A blue trooper or the VIP.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Trooper {
+    #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
     walk: Walk,
     /// What it is doing.
@@ -69,6 +71,7 @@ pub struct Trooper {
     last_order: Option<Order>,
     clock: TurnClock,
     /// The last report sent (to whom, what): repeated if the same order comes again.
+    #[serde(with = "crate::snapshot::static_word")]
     report: Option<(EntityId, &'static str)>,
     /// Its part in the squad walking in formation, if it is in one.
     squad: Option<Squad>,

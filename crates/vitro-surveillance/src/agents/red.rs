@@ -7,6 +7,7 @@ use crate::act::{Drive, Walk};
 use crate::brief::{Gait, RedBrief};
 use crate::model::{Field, Unit};
 use rand::Rng;
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::env::NodeId;
 use vitro::sim::{Context, Input};
@@ -21,8 +22,9 @@ const GO: u64 = 1;
 const RETRY: SimDuration = SimDuration::from_secs(10);
 
 /// A red unit on the move.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Prowler {
+    #[serde(with = "crate::snapshot::red_brief")]
     brief: Arc<RedBrief>,
     gait: Gait,
     /// Where it is going.
@@ -32,6 +34,11 @@ pub struct Prowler {
 }
 
 impl Prowler {
+    /// Its briefing.
+    pub(crate) fn brief(&self) -> &Arc<RedBrief> {
+        &self.brief
+    }
+
     /// A red unit of `brief` moving with `gait`.
     pub fn new(brief: Arc<RedBrief>, gait: Gait) -> Self {
         Prowler {

@@ -15,6 +15,7 @@ use crate::brief::StationBrief;
 use crate::model::{Field, Unit};
 use crate::net::{Net, TEAM};
 use crate::sector::Rect;
+use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::sync::Arc;
 use vitro::comm::{Address, Envelope, Outgoing};
@@ -35,7 +36,7 @@ const RETRY: u64 = 1 << 32;
 const CNET: TimerTag = TimerTag(1);
 
 /// The station's picture of one sector.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SectorState {
     /// Its area, town metres.
     pub area: Rect,
@@ -50,7 +51,7 @@ pub struct SectorState {
 }
 
 /// What the station counts.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct StationStats {
     /// Calls for proposals made.
     pub calls: u64,
@@ -69,8 +70,9 @@ pub struct StationStats {
 }
 
 /// The ground control station.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Station {
+    #[serde(with = "crate::snapshot::station_brief")]
     brief: Arc<StationBrief>,
     cnet: ContractNet<Net>,
     /// Its picture of the sectors, by id.

@@ -19,6 +19,7 @@ use crate::brief::{Airframe, TeamBrief};
 use crate::model::{Field, Unit};
 use crate::net::{Net, TEAM};
 use crate::sector::{Rect, centre, dist};
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use vitro::comm::{Address, Outgoing};
@@ -41,7 +42,7 @@ const CNET: TimerTag = TimerTag(1);
 const REFLY_M: f64 = 25.0;
 
 /// What a UAV is doing.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Mode {
     /// Sweeping its sectors.
     Search,
@@ -59,7 +60,7 @@ pub enum Mode {
 }
 
 /// A stretch of time a UAV's tracker held a lock on a target.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LockSpan {
     /// The target.
     pub target: EntityId,
@@ -70,8 +71,9 @@ pub struct LockSpan {
 }
 
 /// A UAV of the team.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Uav {
+    #[serde(with = "crate::snapshot::team_brief")]
     brief: Arc<TeamBrief>,
     frame: Airframe,
     cnet: ContractNet<Net>,

@@ -16,11 +16,12 @@ use crate::arena::{Arena, Ev};
 use crate::autopilot::{self, FlyError};
 use crate::entity::Level;
 use crate::entity::air::FlightCommand;
+use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::env::{Actuator, Effects, NodeId};
 
 /// GoToNode for a ground vehicle at its level.
-#[derive(Copy, Clone, Debug)]
+#[derive(Copy, Clone, Debug, Serialize, Deserialize)]
 pub struct Drive(pub Level);
 
 impl Actuator<Arena, Ev> for Drive {
@@ -42,7 +43,7 @@ impl Actuator<Arena, Ev> for Drive {
 }
 
 /// WalkToNode for a person on foot at its level.
-#[derive(Copy, Clone, Debug)]
+#[derive(Copy, Clone, Debug, Serialize, Deserialize)]
 pub struct Walk(pub Level);
 
 impl Actuator<Arena, Ev> for Walk {
@@ -64,7 +65,7 @@ impl Actuator<Arena, Ev> for Walk {
 
 /// The autopilot of an aircraft at its level: the lattice at the discrete level, the
 /// fixed-wing kinematic autopilot, or the helicopter's rotor-dynamics autopilot.
-#[derive(Copy, Clone, Debug)]
+#[derive(Copy, Clone, Debug, Serialize, Deserialize)]
 pub struct Pilot(pub Level);
 
 impl Actuator<Arena, Ev> for Pilot {

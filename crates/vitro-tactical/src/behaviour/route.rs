@@ -33,7 +33,7 @@ pub const GIMBAL: FriendFoeVision = FriendFoeVision {
 };
 
 /// Visits `route` node by node through the goal-node actuator `A`; logs each arrival.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct VisitNodes<A> {
     /// The nodes to visit, in order.
     pub route: Vec<NodeId>,
@@ -146,7 +146,7 @@ pub enum Leg {
 }
 
 /// Flies `legs` in order through the autopilot `P`; logs every waypoint reached.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct FlightMission<P> {
     /// The legs.
     pub legs: Vec<Leg>,

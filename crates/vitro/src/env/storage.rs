@@ -158,6 +158,17 @@ impl<T> EntityStorage<T> {
         }
         Some((since..log.writes).map(move |i| log.ring[(i % WRITE_LOG as u64) as usize]))
     }
+    /// Changes every row in place without recording a write. Only for filling in, after a
+    /// snapshot is restored, what the rows' serialized form leaves out (`#[serde(skip)]`
+    /// fields such as a cached plan, which the digest does not cover either): any other
+    /// change made this way escapes the trace.
+    pub fn fill_unrecorded(&mut self, mut f: impl FnMut(EntityId, &mut T)) {
+        for (i, v) in self.rows.iter_mut().enumerate() {
+            if let Some(v) = v {
+                f(EntityId(i as u32), v);
+            }
+        }
+    }
 }
 
 /// A key-value storage (data-type partition), ordered by key.

@@ -26,7 +26,7 @@ pub struct Fired<'a, M: Model> {
 }
 
 /// Why a run returned.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum StopReason {
     /// The next event is after the requested end time.
     Time,

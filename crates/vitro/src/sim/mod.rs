@@ -14,4 +14,4 @@ mod snapshot;
 pub use agent::{Agent, Context, CostModel, Input, Model};
 pub use control::{Clock, Control, ControlError, ManualClock, WallClock};
 pub use driver::{Fired, Simulation, StopReason};
-pub use snapshot::SnapshotError;
+pub use snapshot::{SimState, SimStateRef, SnapshotError};

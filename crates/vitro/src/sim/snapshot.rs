@@ -7,8 +7,9 @@
 use super::agent::Model;
 use super::driver::Simulation;
 use super::kernel::Kernel;
-use serde::Serialize;
+use crate::time::SimTime;
 use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
 use std::io::{Read, Write};
 
 /// Everything a snapshot holds, in order.
@@ -62,5 +63,79 @@ where
         r.take(len).read_to_end(&mut bytes)?;
         let (env, agents, k): State<M> = postcard::from_bytes(&bytes)?;
         Ok(Simulation::from_parts(env, agents, k))
+    }
+}
+
+/// A simulation's state for saving, borrowed: the environment's and the agents' saved forms
+/// (`E`, `A`, chosen by the model: e.g. without the static world, or an enum of agent kinds
+/// where agents are trait objects) and the kernel (queue, random streams, entities, register,
+/// network, trace). Serialize it with any serde format; read it back as a [`SimState`].
+#[derive(Serialize)]
+pub struct SimStateRef<'a, E, A, Ev, Msg> {
+    env: E,
+    agents: Vec<Option<A>>,
+    kernel: &'a Kernel<Ev, Msg>,
+}
+
+/// A simulation's saved state, owned: what [`SimStateRef`] wrote, read back.
+#[derive(Deserialize)]
+#[serde(bound(
+    deserialize = "E: Deserialize<'de>, A: Deserialize<'de>, Ev: Deserialize<'de>, Msg: Deserialize<'de>"
+))]
+pub struct SimState<E, A, Ev, Msg> {
+    env: E,
+    agents: Vec<Option<A>>,
+    kernel: Kernel<Ev, Msg>,
+}
+
+impl<E, A, Ev, Msg> SimState<E, A, Ev, Msg> {
+    /// The simulated time the state was saved at.
+    pub fn now(&self) -> SimTime {
+        self.kernel.queue.now()
+    }
+}
+
+impl<M: Model> Simulation<M> {
+    /// The state of the simulation for saving, with the environment given as `env` (its
+    /// saved form) and each agent turned into its saved form by `agent`. Nothing is cloned:
+    /// the result borrows the simulation.
+    ///
+    /// # Errors
+    /// The first error of `agent` (e.g. an agent of a kind that cannot be saved).
+    pub fn save_state<'a, E, A, X>(
+        &'a self,
+        env: E,
+        mut agent: impl FnMut(&'a M::Agent) -> Result<A, X>,
+    ) -> Result<SimStateRef<'a, E, A, M::Event, M::Msg>, X> {
+        let agents = self
+            .agents
+            .iter()
+            .map(|a| a.as_ref().map(&mut agent).transpose())
+            .collect::<Result<_, X>>()?;
+        Ok(SimStateRef {
+            env,
+            agents,
+            kernel: &self.k,
+        })
+    }
+
+    /// Rebuilds a simulation from a [`SimState`]: `env` makes the environment of its saved
+    /// form, `agent` each agent of its saved form. Listeners, the control handle's settings
+    /// and the clock are not part of the state and must be set again.
+    ///
+    /// # Errors
+    /// The first error of `env` or `agent`.
+    pub fn restore_state<E, A, X>(
+        state: SimState<E, A, M::Event, M::Msg>,
+        env: impl FnOnce(E) -> Result<M::Env, X>,
+        mut agent: impl FnMut(A) -> Result<M::Agent, X>,
+    ) -> Result<Self, X> {
+        let env = env(state.env)?;
+        let agents = state
+            .agents
+            .into_iter()
+            .map(|a| a.map(&mut agent).transpose())
+            .collect::<Result<_, X>>()?;
+        Ok(Simulation::from_parts(env, agents, state.kernel))
     }
 }

@@ -56,6 +56,7 @@ use crate::brief::Brief;
 use crate::error::MissionError;
 use board::{Board, project, targets};
 use rand::Rng;
+use serde::{Deserialize, Serialize};
 use std::sync::{Arc, Mutex};
 use vitro_algo::graph::{Graph, NodeId};
 use vitro_algo::patrol::{PatrolPlan, PlanParams, Target};
@@ -247,9 +248,10 @@ impl PatrolGame {
 
 /// One Skeldar's place in the patrol game: a small state machine, stepped every
 /// `patrol.step_s` by its aircraft ([`PatrolUnit::step`]).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PatrolUnit {
     /// The solved game (shared by every Skeldar).
+    #[serde(with = "crate::snapshot::patrol_game")]
     pub game: Arc<PatrolGame>,
     /// Its unit in the plan.
     pub unit: usize,

@@ -4,6 +4,7 @@
 use super::FormationParams;
 use super::sense::SideClearance;
 use crate::model::Tactical;
+use serde::{Deserialize, Serialize};
 use vitro::sim::Context;
 use vitro_site::geo::{P2, dist};
 
@@ -11,7 +12,7 @@ use vitro_site::geo::{P2, dist};
 pub const PROBES: [f64; 4] = [0.0, 5.0, 10.0, 15.0];
 
 /// What the ground ahead of the leader is (see the [module docs](super)).
-#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Ground {
     /// Walls close on both sides.
     Narrow,

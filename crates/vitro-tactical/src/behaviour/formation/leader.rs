@@ -15,6 +15,7 @@ use crate::entity::{Level, Pose};
 use crate::model::{Controller, Tactical};
 use crate::radio::{Order, Radio};
 use crate::world::Side;
+use serde::{Deserialize, Serialize};
 use vitro::comm::{Address, Envelope, Outgoing};
 use vitro::entity::EntityId;
 use vitro::protocol::TimerTag;
@@ -41,6 +42,7 @@ const LOOK_EVERY: SimDuration = SimDuration::from_secs(1);
 
 /// The squad leader (a [`Controller`]): see the [module docs](super) for what it does and
 /// the radio protocol.
+#[derive(Serialize, Deserialize)]
 pub struct Leader {
     interp: Interpreter,
     st: State,

@@ -6,6 +6,7 @@ use super::motion::{Follow, Mover, xy};
 use super::pattern::{Pattern, Trail, slot_point};
 use super::sense::{ClearWay, FreeSlot, Gait, Hostile, Hostiles, NextNode, WalkRoute};
 use super::{FormationError, FormationParams, LINK_STALE, MEMBER_PROGRAM, at_level};
+use serde::{Deserialize, Serialize};
 
 mod briefing;
 use crate::arena::{Ev, OwnPose};
@@ -47,7 +48,7 @@ const TRAIL_TRIES: usize = 24;
 const OWN_TRAIL: f64 = 150.0;
 
 /// Everything the member's modules read and write.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 struct State {
     leader: EntityId,
     params: FormationParams,
@@ -81,6 +82,7 @@ struct State {
 
 /// A squad member (a [`Controller`]) following the leader `leader`: see the
 /// [module docs](super). It stands still until the leader briefs it.
+#[derive(Serialize, Deserialize)]
 pub struct Member {
     interp: Option<Interpreter>,
     st: State,

@@ -176,6 +176,7 @@ pub use pattern::{Pattern, Trail, slot_point};
 pub use record::{Arrival, Switch, TrackPoint};
 pub use script::Script;
 
+use serde::{Deserialize, Serialize};
 use vitro::time::SimDuration;
 use vitro_algo::rules::RuleError;
 
@@ -227,7 +228,7 @@ pub enum FormationError {
 
 /// The parameters of a squad (the leader's and the members' must agree on
 /// [`spacing`](Self::spacing); the leader's is sent with each briefing and wins).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FormationParams {
     /// Distance between neighbours in a pattern, metres.
     pub spacing: f64,

@@ -7,6 +7,7 @@ use crate::actuate::troop::{directed::MoveAndTurn, discrete::WalkToNode};
 use crate::entity::troop::StepCmd;
 use crate::entity::{Level, Pose};
 use crate::model::Tactical;
+use serde::{Deserialize, Serialize};
 use vitro::env::NodeId;
 use vitro::sim::Context;
 use vitro_site::geo::{P2, dist};
@@ -17,7 +18,7 @@ pub(crate) fn xy(p: &Pose) -> P2 {
 }
 
 /// A body's motion commands, remembered between cycles.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub(crate) struct Mover {
     /// A discrete hop (trip) is under way: no new one until it arrives.
     hopping: bool,
@@ -104,7 +105,7 @@ const WINDOW: usize = 40;
 
 /// Following a [`Leg`] at the directed level: the index of the next point to reach, and a
 /// target ahead on the route that the body can walk to in a straight line.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub(crate) struct Follow {
     /// The route.
     pub leg: Leg,

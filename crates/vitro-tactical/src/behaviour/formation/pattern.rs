@@ -76,7 +76,7 @@ impl std::fmt::Display for Pattern {
 const TRAIL_STEP: f64 = 0.5;
 
 /// The way the leader walked: its recent positions, oldest first, kept up to a length.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Trail {
     pts: Vec<P2>,
 }

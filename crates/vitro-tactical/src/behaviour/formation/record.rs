@@ -2,12 +2,13 @@
 //! carried out.
 
 use super::pattern::Pattern;
+use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::time::SimTime;
 use vitro_site::geo::P2;
 
 /// One logged position.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TrackPoint {
     /// When.
     pub t: SimTime,
@@ -21,7 +22,7 @@ pub struct TrackPoint {
 }
 
 /// A change of formation.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Switch {
     /// When.
     pub t: SimTime,
@@ -37,7 +38,7 @@ pub struct Switch {
 }
 
 /// An order carried out.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Arrival {
     /// When `arrived` was sent.
     pub t: SimTime,

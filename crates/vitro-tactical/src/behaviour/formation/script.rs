@@ -3,6 +3,7 @@
 
 use crate::model::{Controller, Tactical};
 use crate::radio::Radio;
+use serde::{Deserialize, Serialize};
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;
 use vitro::protocol::TimerTag;
@@ -17,7 +18,7 @@ const SEND: TimerTag = TimerTag(0x5343);
 /// each time it hears `Signal("arrived", _)` (a list of waypoints for a leader), and logs
 /// every message it receives. It starts at its first input (e.g.
 /// [`Ev::Start`](crate::arena::Ev::Start)).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Script {
     /// What to send: when, to whom, what.
     pub plan: Vec<(SimTime, EntityId, Radio)>,

@@ -16,6 +16,7 @@ use crate::arena::Arena;
 use crate::entity::discrete::NodeKind;
 use crate::entity::route::Track;
 use crate::types::TroopKind;
+use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::env::{NodeId, Probe, Sensor};
 use vitro_site::geo::{P2, dist};
@@ -41,7 +42,7 @@ pub const SIDE_PROBE: f64 = 0.5;
 /// Whether the straight way from `from` to `to` (world x, y) keeps out of every forbidden
 /// zone, probed every [`WAY_PROBE`] metres (every [`WAY_END_PROBE`] within [`WAY_END`] of
 /// either end), both ends included.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ClearWay {
     /// Start, world metres.
     pub from: P2,
@@ -84,7 +85,7 @@ fn clear_way(env: &Arena, a: P2, b: P2, walked: bool) -> bool {
 /// point of the leader's way it is measured from) is clear; else the free point nearest to
 /// it, if the way from `base` to that is clear; else the last free point of the way from
 /// `base` towards `slot` (so that a slot behind a house is pulled in to the leader's side).
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FreeSlot {
     /// Where the slot is measured from, world metres.
     pub base: P2,
@@ -148,7 +149,7 @@ fn off_edge(env: &Arena, base: P2, p: P2) -> P2 {
 /// Free distance from a world point to the left and to the right of a direction, up to
 /// `reach` metres: the distance to the first forbidden probe ([`SIDE_PROBE`] apart), or
 /// `reach` if there is none.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SideClearance {
     /// Where, world metres.
     pub at: P2,
@@ -178,7 +179,7 @@ impl Sensor<Arena> for SideClearance {
 }
 
 /// A route on the walk graph.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Leg {
     /// World points (on the ground), at most a metre apart; the first is where the route
     /// was asked from.
@@ -199,7 +200,7 @@ const START_CANDIDATES: usize = 8;
 /// at the main node nearest to `to`. Speeds are those of the reading body's type (a blue
 /// trooper's if it has no trooper body). `None` if no near node is in a straight line or
 /// there is no route.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WalkRoute {
     /// From, world metres.
     pub from: P2,
@@ -270,7 +271,7 @@ fn nearest_nodes(env: &Arena, p: P2, k: usize) -> Vec<(NodeId, P2)> {
 
 /// The node of the walk graph's main part nearest to a world point, with its world
 /// position.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct NearestNode(pub P2);
 
 impl Sensor<Arena> for NearestNode {
@@ -287,7 +288,7 @@ impl Sensor<Arena> for NearestNode {
 /// `heading` (within 0.05 rad), with its world position: where a body hopping from that
 /// node along that heading is going (a walk-graph hop is a straight piece between nodes).
 /// `None` if no neighbour lies that way.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct NextNode {
     /// The node the body hops from, world metres.
     pub from: P2,
@@ -327,7 +328,7 @@ fn troop_kind(env: &Arena, id: EntityId) -> Option<TroopKind> {
 
 /// The body's own walking speed on the level, m/s (Pandolf, for its type's load); `None`
 /// without a trooper body.
-#[derive(Copy, Clone, Debug, Default, PartialEq)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Gait;
 
 impl Sensor<Arena> for Gait {
@@ -339,7 +340,7 @@ impl Sensor<Arena> for Gait {
 }
 
 /// A red trooper seen.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Hostile {
     /// Who.
     pub id: EntityId,
@@ -350,7 +351,7 @@ pub struct Hostile {
 /// Red troopers (either level) within `range` metres (3D) whose centre is in line of sight
 /// from the observer's eye (terrain and buildings), in id order. Deterministic: no
 /// detection draw.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Hostiles {
     /// Range, metres.
     pub range: f64,

@@ -96,6 +96,7 @@ impl Chassis {
     }
 }
 
+#[derive(Serialize, Deserialize)]
 struct Vehicle {
     body: RigidBodyHandle,
     ctrl: DynamicRayCastVehicleController,
@@ -104,6 +105,11 @@ struct Vehicle {
 }
 
 /// The rigid-body world of the physical level: the site's mesh and the vehicles on it.
+///
+/// It serializes whole (rapier's `serde-serialize`: bodies, colliders, contacts, islands,
+/// broad phase, the vehicle controllers), so a restored world steps on exactly as the saved
+/// one would have.
+#[derive(Serialize, Deserialize)]
 pub struct Physics {
     world: PhysicsWorld,
     vehicles: BTreeMap<EntityId, Vehicle>,

@@ -8,6 +8,7 @@ use crate::behaviour::formation::pattern::{Pattern, Trail};
 use crate::behaviour::formation::record::{Arrival, Switch, TrackPoint};
 use crate::belief::Whereabouts;
 use crate::entity::Pose;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use vitro::entity::EntityId;
 use vitro::time::{SimDuration, SimTime};
@@ -27,14 +28,14 @@ pub(super) const SQUAD: usize = 1;
 pub(super) const ROUTE: usize = 2;
 
 /// How much the squad lags: the worst member's distance to its slot.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub(super) enum Lag {
     None,
     Some,
     Far,
 }
 
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub(super) enum Pace {
     Normal,
     Slow,
@@ -42,7 +43,7 @@ pub(super) enum Pace {
 }
 
 /// An order being carried out.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub(super) struct Route {
     pub(super) follow: Follow,
     pub(super) requester: EntityId,
@@ -50,7 +51,7 @@ pub(super) struct Route {
 }
 
 /// Everything the leader's modules read and write.
-#[derive(Debug)]
+#[derive(Debug, Serialize, Deserialize)]
 pub(super) struct State {
     pub(super) params: FormationParams,
     pub(super) roster: Vec<EntityId>,

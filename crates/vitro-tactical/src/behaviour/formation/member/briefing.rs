@@ -2,9 +2,10 @@
 //! `"none"`.
 
 use crate::behaviour::formation::pattern::Pattern;
+use serde::{Deserialize, Serialize};
 
 /// What the leader told this member.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub(super) struct Brief {
     /// The pattern.
     pub pattern: Pattern,

@@ -1,0 +1,226 @@
+//! Snapshots of a surveillance run: its whole state (arena and rigid-body world, agents,
+//! queue, random streams, trace, losses) as bytes, and back onto a fresh build of the same
+//! scenario.
+//!
+//! The agents are boxed [`Unit`]s, saved as an enum of the mission's three agent kinds, each
+//! by its own serde derives. Their briefings (shared, rebuilt from the scenario) are not
+//! written: the `brief` fields are marked `#[serde(with = "crate::snapshot::team_brief")]`
+//! (or `station_brief`, `red_brief`) and taken, on reading, from the run being restored.
+
+use crate::agents::red::Prowler;
+use crate::agents::station::Station;
+use crate::agents::uav::Uav;
+use crate::brief::{RedBrief, StationBrief, TeamBrief};
+use crate::model::Unit;
+use crate::net::Net;
+use crate::{Heard, Operation};
+use serde::{Deserialize, Serialize};
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+use vitro::entity::EntityId;
+use vitro::sim::{SimState, SimStateRef, Simulation};
+use vitro::time::SimTime;
+use vitro_mission::SnapshotError;
+use vitro_tactical::arena::{Arena, ArenaState, ArenaStateRef, Ev, site_digest};
+
+/// What restored agents take from the run they are restored into.
+#[derive(Default)]
+struct Shared {
+    team: Option<Arc<TeamBrief>>,
+    station: Option<Arc<StationBrief>>,
+    red: Option<Arc<RedBrief>>,
+}
+
+thread_local! {
+    /// Set while a snapshot's agents are read (see [`Restoring`]).
+    static SHARED: RefCell<Shared> = RefCell::new(Shared::default());
+}
+
+/// Holds the shared parts for the agents read on this thread until dropped.
+struct Restoring;
+
+impl Restoring {
+    fn new(shared: Shared) -> Restoring {
+        SHARED.with(|s| *s.borrow_mut() = shared);
+        Restoring
+    }
+}
+
+impl Drop for Restoring {
+    fn drop(&mut self) {
+        SHARED.with(|s| *s.borrow_mut() = Shared::default());
+    }
+}
+
+/// Serde modules for a shared `Arc` field: nothing is written; reading takes the restored
+/// run's.
+macro_rules! shared_field {
+    ($($module:ident: $ty:ty => $field:ident,)*) => {$(
+        #[doc = concat!("Serde for an agent's `Arc<", stringify!($ty), ">`: written as nothing, read from the run being restored.")]
+        pub(crate) mod $module {
+            use super::*;
+            use serde::{Deserializer, Serializer, de::Error as _};
+            /// Writes nothing (a unit).
+            pub(crate) fn serialize<S: Serializer>(_: &Arc<$ty>, s: S) -> Result<S::Ok, S::Error> {
+                s.serialize_unit()
+            }
+            /// The restored run's.
+            pub(crate) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Arc<$ty>, D::Error> {
+                <()>::deserialize(d)?;
+                SHARED
+                    .with(|s| s.borrow().$field.clone())
+                    .ok_or_else(|| D::Error::custom(concat!("no ", stringify!($ty), " to restore the agents with")))
+            }
+        }
+    )*};
+}
+
+shared_field! {
+    team_brief: TeamBrief => team,
+    station_brief: StationBrief => station,
+    red_brief: RedBrief => red,
+}
+
+/// An agent, borrowed, for saving.
+#[derive(Serialize)]
+enum AgentRef<'a> {
+    Station(&'a Station),
+    Uav(&'a Uav),
+    Prowler(&'a Prowler),
+}
+
+/// An agent read back (boxed, as it will live: the same encoding as the borrowed form).
+#[derive(Deserialize)]
+enum AgentOwned {
+    Station(Box<Station>),
+    Uav(Box<Uav>),
+    Prowler(Box<Prowler>),
+}
+
+#[allow(clippy::borrowed_box)] // the model's agent type is the box
+fn agent_ref(u: &Box<dyn Unit>) -> Result<AgentRef<'_>, SnapshotError> {
+    let any = (**u).as_any();
+    if let Some(a) = any.downcast_ref::<Station>() {
+        Ok(AgentRef::Station(a))
+    } else if let Some(a) = any.downcast_ref::<Uav>() {
+        Ok(AgentRef::Uav(a))
+    } else if let Some(a) = any.downcast_ref::<Prowler>() {
+        Ok(AgentRef::Prowler(a))
+    } else {
+        Err(SnapshotError::Unsupported(
+            "a surveillance with an agent of another kind".into(),
+        ))
+    }
+}
+
+fn agent_box(a: AgentOwned) -> Result<Box<dyn Unit>, SnapshotError> {
+    Ok(match a {
+        AgentOwned::Station(a) => a as Box<dyn Unit>,
+        AgentOwned::Uav(a) => a as Box<dyn Unit>,
+        AgentOwned::Prowler(a) => a as Box<dyn Unit>,
+    })
+}
+
+/// A surveillance run's state, borrowed (written).
+#[derive(Serialize)]
+struct StateRef<'a> {
+    world: u64,
+    sim: SimStateRef<'a, ArenaStateRef<'a>, AgentRef<'a>, Ev, Net>,
+    lost: &'a BTreeMap<EntityId, SimTime>,
+    next_loss: usize,
+    next_sample: SimTime,
+    finished: bool,
+    heard: Heard,
+    log: &'a Vec<(SimTime, String)>,
+    station_log: usize,
+}
+
+/// A surveillance run's state, read back.
+#[derive(Deserialize)]
+struct State {
+    world: u64,
+    sim: SimState<ArenaState, AgentOwned, Ev, Net>,
+    lost: BTreeMap<EntityId, SimTime>,
+    next_loss: usize,
+    next_sample: SimTime,
+    finished: bool,
+    heard: Heard,
+    log: Vec<(SimTime, String)>,
+    station_log: usize,
+}
+
+impl Operation {
+    /// The run's whole state as bytes: everything but the static world and the shared
+    /// briefings, which a restore takes from a fresh build. Does not change the run.
+    ///
+    /// # Errors
+    /// [`SnapshotError::Unsupported`] if an agent is of a kind the mission does not save.
+    pub fn save_state(&self) -> Result<Vec<u8>, SnapshotError> {
+        let heard = match self.heard.lock() {
+            Ok(h) => h.clone(),
+            Err(p) => p.into_inner().clone(),
+        };
+        let state = StateRef {
+            world: site_digest(&self.team.site),
+            sim: self.sim.save_state(self.sim.env().state(), agent_ref)?,
+            lost: &self.lost,
+            next_loss: self.next_loss,
+            next_sample: self.next_sample,
+            finished: self.finished,
+            heard,
+            log: &self.log,
+            station_log: self.station_log,
+        };
+        postcard::to_stdvec(&state).map_err(|e| SnapshotError::Corrupt(e.to_string()))
+    }
+
+    /// Puts a state [`save_state`](Self::save_state) made into this run, a fresh build of
+    /// the same scenario with the same options.
+    ///
+    /// # Errors
+    /// [`SnapshotError::Corrupt`] if the bytes do not decode, [`SnapshotError::Mismatch`] if
+    /// this run's site is not the one the state was saved on.
+    pub fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SnapshotError> {
+        let red = self.members.iter().find_map(|m| {
+            let a = self.sim.agent(m.id)?;
+            Some((**a).as_any().downcast_ref::<Prowler>()?.brief().clone())
+        });
+        let state: State = {
+            let _shared = Restoring::new(Shared {
+                team: Some(self.team.clone()),
+                station: Some(self.tasks.clone()),
+                red,
+            });
+            postcard::from_bytes(bytes).map_err(|e| SnapshotError::Corrupt(e.to_string()))?
+        };
+        if state.world != site_digest(&self.team.site) {
+            return Err(SnapshotError::Mismatch(
+                "the map or terrain the scenario names changed since the run was saved".into(),
+            ));
+        }
+        let env = self.sim.env();
+        let (site, roads, types) = (env.site.clone(), env.roads.clone(), env.types.clone());
+        let mut sim = Simulation::restore_state(
+            state.sim,
+            |a| {
+                Arena::restore(site, roads, types, a)
+                    .map_err(|e| SnapshotError::Corrupt(e.to_string()))
+            },
+            agent_box,
+        )?;
+        crate::listen(&mut sim, &self.heard);
+        self.sim = sim;
+        self.lost = state.lost;
+        self.next_loss = state.next_loss;
+        self.next_sample = state.next_sample;
+        self.finished = state.finished;
+        match self.heard.lock() {
+            Ok(mut h) => *h = state.heard,
+            Err(p) => *p.into_inner() = state.heard,
+        }
+        self.log = state.log;
+        self.station_log = state.station_log;
+        Ok(())
+    }
+}
