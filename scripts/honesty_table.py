@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Summarises runs of experiments/mission_honesty.toml (radio loss x camera range): per point,
-the success rate (Wilson 95 % interval), the mean time uncovered and the mean number of
-adversaries detected (mean +- 1.96 standard errors), and n. With two result directories,
+the success rate (Wilson 95 % interval), the mean time to extraction (successful runs), the
+mean time uncovered and the mean number of adversaries detected (mean +- 1.96 standard
+errors), and n. With two result directories,
 prints both side by side (e.g. before and after a change).
 
 Usage: python3 scripts/honesty_table.py RESULTS_DIR [OTHER_RESULTS_DIR]
@@ -58,14 +59,15 @@ def summary(results: pathlib.Path) -> dict:
         lo, hi = wilson(ok, n)
         unc = mean_ci([num(r["time_uncovered_s"]) for r in rs])
         det = mean_ci([num(r["adversaries_detected"]) for r in rs])
-        out[key] = (n, ok / n, lo, hi, unc, det)
+        tte = mean_ci([num(r["time_to_extraction_s"]) for r in rs])
+        out[key] = (n, ok / n, lo, hi, unc, det, tte)
     return out
 
 
 def cell(v) -> str:
-    n, p, lo, hi, unc, det = v
-    return (f"{p:.2f} [{lo:.2f}, {hi:.2f}] | {unc[0]:.0f} ± {unc[1]:.0f} | "
-            f"{det[0]:.1f} ± {det[1]:.1f} | {n}")
+    n, p, lo, hi, unc, det, tte = v
+    return (f"{p:.2f} [{lo:.2f}, {hi:.2f}] | {tte[0]:.0f} ± {tte[1]:.0f} | "
+            f"{unc[0]:.0f} ± {unc[1]:.0f} | {det[0]:.1f} ± {det[1]:.1f} | {n}")
 
 
 def main() -> int:
@@ -75,16 +77,16 @@ def main() -> int:
         return 2
     tables = [summary(d) for d in dirs]
     head = "| loss | air camera m | ground camera m |"
-    cols = " success [95 % CI] | uncovered s | detected | n |"
+    cols = " success [95 % CI] | extraction s | uncovered s | detected | n |"
     if len(tables) == 1:
         print(head + cols)
-        print("|---" * 7 + "|")
+        print("|---" * 8 + "|")
     else:
         print(head + cols.replace(" |", " (1) |") + cols.replace(" |", " (2) |"))
-        print("|---" * 11 + "|")
+        print("|---" * 13 + "|")
     for key in tables[0]:
         line = f"| {key[0]:.1f} | {key[1]:.0f} | {key[2]:.0f} | " + " | ".join(
-            cell(t[key]) if key in t else "- | - | - | -" for t in tables)
+            cell(t[key]) if key in t else "- | - | - | - | -" for t in tables)
         print(line + " |")
     return 0
 
