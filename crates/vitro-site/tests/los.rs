@@ -80,7 +80,7 @@ fn a_hill_between() {
     // A round hill 60 m high in the middle of a 1 km square.
     let t = Terrain::from_fn(41, 41, 25.0, |x, y| {
         let r2 = (x - 512.5).powi(2) + (y - 512.5).powi(2);
-        60.0 * (-r2 / (2.0 * 80.0f64.powi(2))).exp()
+        60.0 * libm::exp(-r2 / (2.0 * 80.0f64.powi(2)))
     })
     .unwrap();
     let s = LosScene::terrain_only(&t).unwrap();

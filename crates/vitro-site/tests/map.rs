@@ -123,7 +123,7 @@ fn graph_edges_are_consistent() {
         .map(NodeId)
         .filter(|n| seen[n.0 as usize])
         .max_by(|a, b| {
-            let d = |n: &NodeId| w.pos(*n).map_or(0.0, |p| p[0].hypot(p[1]));
+            let d = |n: &NodeId| w.pos(*n).map_or(0.0, |p| libm::hypot(p[0], p[1]));
             d(a).total_cmp(&d(b))
         })
         .unwrap();

@@ -41,7 +41,7 @@ const SEED: u64 = 2024;
 /// An Exp(mean 1 s) draw in nanoseconds.
 fn exp_ns(rng: &mut ChaCha8Rng) -> u64 {
     let u: f64 = rng.random();
-    (-(1.0 - u).ln() * MEAN_NS) as u64
+    (-libm::log(1.0 - u) * MEAN_NS) as u64
 }
 
 struct HoldModel;

@@ -42,7 +42,7 @@ fn streets() -> GraphStorage<(f64, f64), ()> {
     let n: Vec<NodeId> = pts.iter().map(|&p| g.add_node(p)).collect();
     for (a, b) in [(0, 1), (1, 2), (2, 3), (3, 0), (1, 4), (4, 2)] {
         let (pa, pb) = (pts[a], pts[b]);
-        let len = (pa.0 - pb.0).hypot(pa.1 - pb.1);
+        let len = libm::hypot(pa.0 - pb.0, pa.1 - pb.1);
         g.add_undirected_edge(n[a], n[b], len, ());
     }
     g
@@ -158,7 +158,7 @@ impl Actuator<Continuous, Ev> for MoveInDirection {
         _: &mut Effects<Ev>,
     ) -> Result<(), Infallible> {
         w.bodies.update(me, |b| {
-            b.heading = (y - b.y).atan2(x - b.x);
+            b.heading = libm::atan2(y - b.y, x - b.x);
             b.speed = speed;
         });
         Ok(())
@@ -196,7 +196,7 @@ fn nearest_node(g: &GraphStorage<(f64, f64), ()>, x: f64, y: f64) -> NodeId {
         .min_by(|&a, &b| {
             let d = |n| {
                 g.node(n)
-                    .map_or(f64::INFINITY, |&(px, py)| (px - x).hypot(py - y))
+                    .map_or(f64::INFINITY, |&(px, py)| libm::hypot(px - x, py - y))
             };
             d(a).total_cmp(&d(b))
         })
@@ -237,7 +237,7 @@ impl Model for ContinuousModel {
             let Some(&(tx, ty)) = w.graph.node(wp) else {
                 continue;
             };
-            let dist = (tx - b.x).hypot(ty - b.y);
+            let dist = libm::hypot(tx - b.x, ty - b.y);
             if dist <= b.speed * dt {
                 // Reached the waypoint: snap to it, then steer to the next or report arrival.
                 w.bodies.update(id, |b| {
@@ -251,8 +251,8 @@ impl Model for ContinuousModel {
                 }
             } else {
                 w.bodies.update(id, |b| {
-                    b.x += b.speed * dt * b.heading.cos();
-                    b.y += b.speed * dt * b.heading.sin();
+                    b.x += b.speed * dt * libm::cos(b.heading);
+                    b.y += b.speed * dt * libm::sin(b.heading);
                 });
             }
         }
