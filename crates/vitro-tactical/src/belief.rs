@@ -5,7 +5,7 @@
 //! that friend's own position reports ([`Radio::Position`], blue-force tracking: every unit
 //! sends its GPS fix every few seconds, see [`Beacon`]), which the simulated radio delays,
 //! loses or bounces out of range; and where anyone is from its own camera
-//! ([`Sighting`](crate::sensor::Sighting), see [`Whereabouts::saw`]) or a friend's contact
+//! ([`Sighting`], see [`Whereabouts::saw`]) or a friend's contact
 //! report ([`Radio::Contact`]). [`Whereabouts`] keeps
 //! the newest fix of each entity and dead-reckons it forward ([`Fix::predicted`]) for at
 //! most [`Whereabouts::stale_after`]; older than that, the agent does not know where that
