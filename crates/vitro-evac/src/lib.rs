@@ -280,9 +280,13 @@ impl Mission {
             }
             let cover = aircraft.and_then(|a| a.cover.as_ref());
             if let Some(c) = cover {
-                m.plan_repairs += c.repairs;
-                m.plan_cuts += c.cuts;
+                let t = c.tally();
+                m.plan_repairs += t.repairs;
+                m.plan_cuts += t.cuts;
+                m.plan_fallbacks += t.fallbacks;
                 m.plan_messages += c.messages;
+                m.plan_failures += c.failures;
+                m.checkpoints_missed += c.missed;
             }
         }
         m

@@ -182,6 +182,9 @@ fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
         ("aircraft_down", Metric::count(m.aircraft_down)),
         ("plan_cuts", Metric::count(m.plan_cuts)),
         ("plan_messages", Metric::count(m.plan_messages)),
+        ("plan_failures", Metric::count(m.plan_failures)),
+        ("plan_fallbacks", Metric::count(m.plan_fallbacks)),
+        ("checkpoints_missed", Metric::count(m.checkpoints_missed)),
         ("shots", Metric::count(m.shots)),
         (
             "patrol_capture_probability",
@@ -351,9 +354,11 @@ fn summary(mission: &Mission, m: &Metrics) -> Vec<(String, String)> {
         (
             "cover plan".to_owned(),
             format!(
-                "{} repairs, {} plan messages{}",
+                "{} failures, {} repairs, {} plan messages, {} checkpoints missed{}",
+                m.plan_failures,
                 m.plan_repairs,
                 m.plan_messages,
+                m.checkpoints_missed,
                 if m.plan_cuts > 0 {
                     format!(", {} cut by the depth bound", m.plan_cuts)
                 } else {

@@ -54,6 +54,12 @@ pub struct Metrics {
     pub plan_cuts: u64,
     /// Cover-plan messages sent by the lead Vidar.
     pub plan_messages: u64,
+    /// Cover-plan failures the lead detected (failed or overdue looks, Vidars lost).
+    pub plan_failures: u64,
+    /// Back-on-track repairs of the cover plan that fell back to replanning.
+    pub plan_fallbacks: u64,
+    /// Checkpoints the truck passed with no look at them reported to the lead.
+    pub checkpoints_missed: u64,
     /// Shots fired by the adversaries.
     pub shots: u64,
     /// The patrol game's least capture probability over the attacks of the trip, as

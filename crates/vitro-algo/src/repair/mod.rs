@@ -87,11 +87,11 @@ use vitro::time::{SimDuration, SimTime};
 
 use crate::planning::PlanError;
 
+pub use repairer::{Cause, PlanStep, RepairSettings, RepairTally, Repairer, Revision, StepRef};
 pub use run::{
     Applied, AppliedKind, MessageTally, RepairKind, RepairRecord, RunFailure, RunReport, Trigger,
     run,
 };
-pub use repairer::{Cause, PlanStep, RepairSettings, RepairTally, Repairer, Revision, StepRef};
 pub use scenario::{Ownership, Scenario};
 
 /// The protocol of the messages that pass the turn from one step's owner to the next.
@@ -100,7 +100,9 @@ pub const TURN_PROTOCOL: Protocol = Protocol::Custom(1);
 pub const PLAN_PROTOCOL: Protocol = Protocol::Custom(2);
 
 /// How the team reacts to a failure (see the [module](self) documentation).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize,
+)]
 pub enum Strategy {
     /// A new plan from the current state to the goal at every failure.
     Replan,

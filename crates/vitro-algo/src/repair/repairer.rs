@@ -83,7 +83,7 @@ pub struct PlanStep {
 }
 
 /// What made the caller ask for a repair.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Cause {
     /// This step was carried out but did not make its effects true.
     Failed(StepRef),
@@ -439,12 +439,7 @@ impl Repairer {
         }
     }
 
-    fn back_on_track(
-        &mut self,
-        cause: Cause,
-        belief: &[u64],
-        goal: &[FactId],
-    ) -> Revision {
+    fn back_on_track(&mut self, cause: Cause, belief: &[u64], goal: &[FactId]) -> Revision {
         let task = &self.team.task;
         let owner = &self.team.owner;
         let goal_set: BTreeSet<FactId> = goal.iter().copied().collect();
@@ -569,7 +564,8 @@ impl Repairer {
 
 /// Whether fact `f` is set in state `s`.
 fn holds(s: &[u64], f: FactId) -> bool {
-    s.get((f / 64) as usize).is_some_and(|w| w & (1 << (f % 64)) != 0)
+    s.get((f / 64) as usize)
+        .is_some_and(|w| w & (1 << (f % 64)) != 0)
 }
 
 fn numbered(version: u32, actions: &[ActionId]) -> Vec<(StepRef, ActionId)> {
@@ -646,8 +642,16 @@ mod tests {
         r.start();
         let s = first(&mut r);
         // Its effect did not come true: the agent moved but did not see.
-        let moved = s.action.split_whitespace().nth(3).map(|x| x.trim_end_matches(')'));
-        let (a, other) = if s.agent == 0 { ("v0", "(at v1 s4)") } else { ("v1", "(at v0 s0)") };
+        let moved = s
+            .action
+            .split_whitespace()
+            .nth(3)
+            .map(|x| x.trim_end_matches(')'));
+        let (a, other) = if s.agent == 0 {
+            ("v0", "(at v1 s4)")
+        } else {
+            ("v1", "(at v0 s0)")
+        };
         let at = format!("(at {a} {})", moved.unwrap_or("s0"));
         let belief = [at.as_str(), other];
         let rev = r
@@ -680,7 +684,10 @@ mod tests {
         r.start();
         let s = first(&mut r);
         let belief = ["(at v0 s0)", "(at v1 s4)"];
-        assert_eq!(r.repair(Cause::Failed(s.id), &belief, &GOAL).expect("ok"), None);
+        assert_eq!(
+            r.repair(Cause::Failed(s.id), &belief, &GOAL).expect("ok"),
+            None
+        );
         assert_eq!(r.tally().deferred, 1);
         while !r.is_finished() {
             first(&mut r);
@@ -690,7 +697,10 @@ mod tests {
             .expect("ok")
             .expect("a lazy repair");
         assert_eq!(rev.kind, RepairKind::Lazy);
-        assert!(!r.is_deferred(), "lazy repairs the lazy repair plan by replanning");
+        assert!(
+            !r.is_deferred(),
+            "lazy repairs the lazy repair plan by replanning"
+        );
     }
 
     #[test]
@@ -716,7 +726,10 @@ mod tests {
         let mut r = Repairer::new(&line(), settings);
         r.start();
         let belief = ["(at v0 s0)", "(at v1 s4)"];
-        let rev = r.repair(Cause::PlanEnd, &belief, &GOAL).expect("ok").expect("repair");
+        let rev = r
+            .repair(Cause::PlanEnd, &belief, &GOAL)
+            .expect("ok")
+            .expect("repair");
         assert!(rev.cut);
         assert_eq!(r.pending().len(), 1);
         assert_eq!(r.tally().cuts, 1);

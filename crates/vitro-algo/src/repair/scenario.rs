@@ -41,7 +41,10 @@ impl Ownership {
     }
     /// The schemas that name another owning parameter, with it.
     pub fn overrides(&self) -> Vec<(String, usize)> {
-        self.by_action.iter().map(|(a, &i)| (a.clone(), i)).collect()
+        self.by_action
+            .iter()
+            .map(|(a, &i)| (a.clone(), i))
+            .collect()
     }
     /// The owning parameter of schema `action`.
     pub fn parameter(&self, action: &str) -> usize {

@@ -332,6 +332,15 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
     if let Some(d) = f.repair.max_depth {
         c.value("repair.max_depth", d, d >= 1, "a depth of at least 1");
     }
+    let rate = f.repair.failure_rate;
+    c.num(
+        "repair.failure_rate",
+        rate,
+        false,
+        0.0,
+        1.0,
+        "a probability",
+    );
     if let (Some(given), Some(resolved)) = (&f.formation.program, &loaded.program) {
         c.file_exists(
             "formation.program",

@@ -533,6 +533,9 @@ pub struct RepairSpec {
     /// Deepest repair tried before replanning (none: no limit).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_depth: Option<u32>,
+    /// Probability that a Vidar's look at a checkpoint fails (glare, smoke, a gust), and
+    /// that a Vidar other than the lead is recalled during the mission.
+    pub failure_rate: f64,
 }
 
 /// Troop formations.
