@@ -2,12 +2,13 @@
 //! body, condition and agent, the channel and the start events.
 
 use super::act::{Dismount, Drive, Pilot, Walk};
-use super::agents::air::{AirRole, Aircraft, Ugv};
+use super::agents::air::{AirRole, Aircraft};
 use super::agents::commander::Commander;
 use super::agents::hunt::Board;
 use super::agents::patrol::{PatrolGame, PatrolUnit};
 use super::agents::red::{Adversary, Hvt};
 use super::agents::trooper::Trooper;
+use super::agents::ugv::Ugv;
 use super::brief::{Brief, FormationBrief};
 use crate::error::MissionError;
 use crate::external::{External, SharedDesk};

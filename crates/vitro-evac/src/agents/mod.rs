@@ -10,6 +10,7 @@ pub mod patrol;
 pub mod red;
 pub mod squad;
 pub mod trooper;
+pub mod ugv;
 
 use super::brief::{BLUE, Brief};
 use serde::{Deserialize, Serialize};

@@ -120,16 +120,10 @@ impl CoverStep {
     }
 }
 
-/// The checkpoint a ground action `(hop v a b)` / `(look v s)` watches, and whether it is
-/// a hop.
-fn spot_of(action: &str) -> Option<(usize, bool)> {
-    let words: Vec<&str> = action
-        .trim_matches(|c| c == '(' || c == ')')
-        .split_whitespace()
-        .collect();
-    let hop = words.first() == Some(&"hop");
-    let spot = words.get(if hop { 3 } else { 2 })?;
-    Some((spot.strip_prefix('c')?.parse().ok()?, hop))
+/// The checkpoint a ground action `(hop v a b)` / `(look v s)` watches: its last word.
+fn spot_of(action: &str) -> Option<usize> {
+    let last = action.trim_end_matches(')').split_whitespace().last()?;
+    last.strip_prefix('c')?.parse().ok()
 }
 
 /// The station of Vidar `i` at the end of a route of `points` checkpoints: the last
@@ -299,7 +293,7 @@ impl CoverPlanner {
                     .filter_map(|s| {
                         Some(CoverStep {
                             step: s.id,
-                            spot: spot_of(&s.action)?.0,
+                            spot: spot_of(&s.action)?,
                         })
                     })
                     .collect();
@@ -384,7 +378,7 @@ impl CoverPlanner {
                 self.due_since.insert(i, now_s);
                 continue;
             };
-            let Some((spot, _)) = spot_of(&s.action) else {
+            let Some(spot) = spot_of(&s.action) else {
                 continue;
             };
             if spot > k + AHEAD {
