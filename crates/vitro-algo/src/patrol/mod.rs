@@ -144,6 +144,7 @@ mod error;
 mod exact;
 mod instance;
 mod local;
+mod lp;
 mod montecarlo;
 mod plan;
 mod policy;
@@ -157,6 +158,7 @@ mod tube;
 pub use error::PatrolError;
 pub use instance::{Instance, MAX_PERIOD, Patroller, Target, TargetPosition};
 pub use local::LpStats;
+pub use lp::LpBackend;
 pub use montecarlo::{AttackEstimate, MonteCarloOptions, MonteCarloReport, monte_carlo};
 pub use plan::{PatrolPlan, PlanParams};
 pub use policy::{Attack, Policy, Rows};
@@ -245,6 +247,8 @@ pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solutio
         supports: chains.len(),
         ..SolveStats::default()
     };
+    stats.lp.backend = options.lp;
+    stats.bnb_lp.backend = options.lp;
     // Stage 1: local optimisation on the most promising supports.
     let mut best: Option<(usize, Vec<f64>, f64)> = None;
     for &s in order.iter().take(options.local_searches.max(1)) {

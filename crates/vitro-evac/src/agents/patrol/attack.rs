@@ -1,0 +1,349 @@
+//! The patrol game's attacker in the mission: a red unit that watches the Skeldars and the
+//! truck, and strikes one of the game's targets (the convoy, or the route ahead of it) at
+//! the start the game's attacker would pick; and the umpire's verdict on each attack.
+//!
+//! # What the attacker knows (its briefing) and sees
+//!
+//! - **Briefed**: the defender's mixed strategy (the solved plan: every Skeldar's policy),
+//!   the convoy's timetable and the rule by which the Skeldars lock their phase to the
+//!   truck ([`PatrolGame::lock`]) — the game's attacker knows the randomisation, not its
+//!   draws.
+//! - **Seen** ([`PatrolWatch`]): the Skeldars and the truck within `patrol.watch_range_m`
+//!   of itself (a helicopter above the roofs and a truck on the streets of a small town,
+//!   watched from its vantage; line of sight is not checked). It sees no other blue unit's
+//!   state, and no radio.
+//!
+//! From the truck's progress it keeps the phase the Skeldars should be at (the same lock
+//! rule, on its own sightings, half a second after each patrol step); just before each
+//! patrol step it looks at where every Skeldar hovers: if all are over checkpoints where the
+//! policy may have them at that phase, the state `(vertices, phase)` is known and the
+//! capture probability of an attack on each target started now is the game's
+//! ([`PatrolGame::capture_at`]).
+//!
+//! # When it strikes (the game's attacker, with a deadline)
+//!
+//! The game's attacker waits for the state that suits it best. Here the trip ends, so it
+//! strikes at the first observed state whose capture probability is the least of the trip
+//! (to 10⁻⁶), or at its last chance (the attack must end by the extraction point), on the
+//! target least likely to be caught there. Either way the start is a stopping time of what
+//! it observed, so by the Markov property the chance the attack is caught is the computed
+//! probability of the state it chose — as long as the Skeldars play the policy through
+//! the attack's `attack_steps` steps (the truck keeps its timetable within the lock's
+//! tolerance: no hold, no skip, no rejoin). That is the condition under which the
+//! guarantee holds; [`Verdict::on_schedule`] says whether it did.
+//!
+//! An attack is scored, not played out: it does not hurt the convoy (the red fire model
+//! stays as it was).
+
+use super::{LOCK_TOLERANCE_M, PatrolGame};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+use vitro::entity::EntityId;
+use vitro::env::{Probe, Sensor};
+use vitro_algo::graph::NodeId;
+use vitro_site::geo::P2;
+use vitro_tactical::arena::Arena;
+use vitro_tactical::condition::{Role, Status};
+
+/// What a Skeldar did at one patrol step: the umpire's record.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum StepKind {
+    /// Drew its next checkpoint from its policy.
+    Policy,
+    /// Stayed, the phase held (the truck late, no track of it, or the trip over).
+    Hold,
+    /// Stepped back towards its patrol (the truck early).
+    Rejoin,
+}
+
+/// One patrol step of a Skeldar: when (seconds), the checkpoint it flies to, its phase.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StepLog {
+    /// Simulated time of the step, seconds.
+    pub t: f64,
+    /// The checkpoint it flies to (or hovers over).
+    pub at: Option<NodeId>,
+    /// Its phase after the step.
+    pub phase: usize,
+    /// What it did.
+    pub kind: StepKind,
+}
+
+/// The Skeldars and the truck within a range of the observer, by id: what the patrol
+/// attacker sees (horizontal range, line of sight not checked).
+#[derive(Copy, Clone, Debug)]
+pub struct PatrolWatch {
+    /// Range, metres.
+    pub range: f64,
+}
+
+/// A [`PatrolWatch`] reading: world positions of the active Skeldars (by id) and of the
+/// truck.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WatchReading {
+    /// The Skeldars seen, in id order.
+    pub skeldars: Vec<(EntityId, [f64; 3])>,
+    /// The truck, if seen.
+    pub truck: Option<[f64; 3]>,
+}
+
+impl Sensor<Arena> for PatrolWatch {
+    type Reading = WatchReading;
+    fn read(&self, w: &Arena, me: EntityId, _: &mut Probe<'_>) -> WatchReading {
+        let mut out = WatchReading::default();
+        let Some(mine) = w.pose(me) else {
+            return out;
+        };
+        for (id, c) in w.conditions.iter() {
+            if c.status != Status::Active || !matches!(c.role, Role::Skeldar | Role::Truck) {
+                continue;
+            }
+            let Some(p) = w.pose(id) else { continue };
+            if libm::hypot(p.pos[0] - mine.pos[0], p.pos[1] - mine.pos[1]) > self.range {
+                continue;
+            }
+            match c.role {
+                Role::Truck => out.truck = Some(p.pos),
+                _ => out.skeldars.push((id, p.pos)),
+            }
+        }
+        out.skeldars.sort_unstable_by_key(|s| s.0);
+        out
+    }
+}
+
+/// An attack the attacker started.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Attack {
+    /// When it started, seconds.
+    pub start_s: f64,
+    /// The game's target (0: the convoy, 1: the route ahead).
+    pub target: usize,
+    /// The phase it believed the patrol at.
+    pub phase: usize,
+    /// The checkpoint of each Skeldar (plan unit order) it saw.
+    pub from: Vec<NodeId>,
+    /// Where the target is at each of the attack's steps (the game's schedule).
+    pub places: Vec<NodeId>,
+    /// The game's capture probability of this attack from this state.
+    pub capture: f64,
+}
+
+/// The umpire's verdict on an attack, from the Skeldars' step logs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Verdict {
+    /// A Skeldar stood on the target's checkpoint at one of the attack's steps.
+    pub stopped: bool,
+    /// Every Skeldar played its policy through the attack from the state the attacker saw
+    /// (the game's assumption held).
+    pub on_schedule: bool,
+}
+
+impl Attack {
+    /// The verdict given each plan unit's step log: the `places.len()` steps after the
+    /// start; stopped if a unit's checkpoint at step `s` is the target's place at step `s`.
+    pub fn verdict(&self, logs: &[&[StepLog]]) -> Verdict {
+        let mut stopped = false;
+        let mut on_schedule = logs.len() == self.from.len();
+        for (u, log) in logs.iter().enumerate() {
+            let first = log.partition_point(|e| e.t <= self.start_s);
+            let before = first.checked_sub(1).and_then(|i| log.get(i));
+            let seen_right =
+                before.is_some_and(|e| e.at == self.from.get(u).copied() && e.phase == self.phase);
+            on_schedule &= seen_right;
+            let window = log.get(first..).unwrap_or(&[]);
+            for (s, place) in self.places.iter().enumerate() {
+                match window.get(s) {
+                    Some(e) => {
+                        stopped |= e.at == Some(*place);
+                        on_schedule &= e.kind == StepKind::Policy && e.phase == self.phase + s + 1;
+                    }
+                    None => on_schedule = false,
+                }
+            }
+        }
+        Verdict {
+            stopped,
+            on_schedule,
+        }
+    }
+}
+
+/// The patrol game's attacker: its briefing, its running estimate of the phase, and its
+/// attack once started.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Attacker {
+    /// The solved game (briefed: the policies and the timetable).
+    #[serde(with = "crate::snapshot::patrol_game")]
+    pub game: Arc<PatrolGame>,
+    /// The Skeldars in plan unit order.
+    pub units: Vec<EntityId>,
+    /// The truck's progress along the route as it saw it, metres.
+    progress: f64,
+    /// The phase it believes the Skeldars at (none before the first sighting of the truck).
+    phase: Option<usize>,
+    /// Its attack, once started.
+    pub attack: Option<Attack>,
+}
+
+impl Attacker {
+    /// An attacker briefed with `game`, the Skeldars `units` in plan unit order.
+    pub fn new(game: Arc<PatrolGame>, units: Vec<EntityId>) -> Self {
+        Attacker {
+            game,
+            units,
+            progress: 0.0,
+            phase: None,
+            attack: None,
+        }
+    }
+
+    /// Just after a patrol step: the truck's progress as seen (town point; `None`: not
+    /// seen) moves the believed phase as the Skeldars' lock rule does.
+    pub fn follow(&mut self, truck: Option<P2>) {
+        let Some(p) = truck else { return };
+        self.progress = self.game.progress(p, self.progress);
+        self.phase = match self.phase {
+            None => Some(self.game.lock(0, self.progress).unwrap_or(0)),
+            Some(phase) => Some(self.game.lock(phase, self.progress).unwrap_or(phase)),
+        };
+    }
+
+    /// Just before a patrol step, at `now_s`: the Skeldars seen (world positions by id);
+    /// starts the attack if this is the moment (see the module docs) and returns it.
+    pub fn watch(&mut self, now_s: f64, seen: &[(EntityId, [f64; 3])]) -> Option<&Attack> {
+        if self.attack.is_some() {
+            return None;
+        }
+        let phase = self.phase?;
+        let deadline = self.game.attack_steps();
+        let last = self.game.last_phase();
+        if phase + deadline > last {
+            return None;
+        }
+        let from: Vec<NodeId> = self
+            .units
+            .iter()
+            .map(|id| {
+                let (_, p) = seen.iter().find(|s| s.0 == *id)?;
+                self.game.checkpoint_near(*p, LOCK_TOLERANCE_M)
+            })
+            .collect::<Option<_>>()?;
+        let (target, capture) = (0..self.game.target_count())
+            .filter_map(|t| Some((t, self.game.capture_at(t, phase, &from)?)))
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))?;
+        let best = self.game.least_capture(last - deadline);
+        let last_chance = phase + deadline == last;
+        if capture > best + 1e-6 && !last_chance {
+            return None;
+        }
+        let places = (1..=deadline)
+            .map(|s| self.game.target_place(target, phase + s))
+            .collect::<Option<_>>()?;
+        self.attack = Some(Attack {
+            start_s: now_s,
+            target,
+            phase,
+            from,
+            places,
+            capture,
+        });
+        self.attack.as_ref()
+    }
+}
+
+/// Per plan unit, target and phase: the capture probability of an attack started with the
+/// unit at each of its states, `(vertex, probability)`.
+pub(super) type CaptureTable = Vec<Vec<Vec<Vec<(NodeId, f64)>>>>;
+
+/// The capture table of `plan` against `targets` (the game it was solved for).
+pub(super) fn capture_table(
+    plan: &vitro_algo::patrol::PatrolPlan,
+    targets: &[vitro_algo::patrol::Target],
+) -> Result<CaptureTable, String> {
+    use vitro_algo::patrol::{Instance, Patroller};
+    let patrollers = (0..plan.units())
+        .map(|i| Patroller {
+            name: format!("unit{i}"),
+        })
+        .collect();
+    let instance = Instance::new(plan.graph.clone(), targets.to_vec(), patrollers)
+        .map_err(|e| e.to_string())?;
+    let period = plan.period.max(1);
+    plan.policies
+        .iter()
+        .map(|policy| {
+            let mut table = vec![vec![Vec::new(); period]; targets.len()];
+            for a in policy.attacks(&instance).map_err(|e| e.to_string())? {
+                if let Some(slot) = table
+                    .get_mut(a.target)
+                    .and_then(|t| t.get_mut(a.phase % period))
+                {
+                    slot.push((a.from, a.capture_probability));
+                }
+            }
+            Ok(table)
+        })
+        .collect()
+}
+
+impl PatrolGame {
+    /// Steps an attack takes.
+    pub fn attack_steps(&self) -> usize {
+        self.targets.first().map_or(1, |t| t.deadline as usize)
+    }
+
+    /// The game's targets (0: the convoy, 1: the route ahead, if the game looks ahead).
+    pub fn target_count(&self) -> usize {
+        self.targets.len()
+    }
+
+    /// Where target `t` is at `phase` (its schedule, cyclic).
+    pub fn target_place(&self, t: usize, phase: usize) -> Option<NodeId> {
+        use vitro_algo::patrol::TargetPosition;
+        match &self.targets.get(t)?.position {
+            TargetPosition::Static(v) => Some(*v),
+            TargetPosition::Schedule(s) => s.get(phase % s.len().max(1)).copied(),
+        }
+    }
+
+    /// The game's capture probability of an attack on target `t` started at `phase` with the
+    /// plan's units at `from` (one vertex each, plan unit order): one minus the product of
+    /// the units' escape probabilities; `None` if a unit's policy never has it there then.
+    pub fn capture_at(&self, t: usize, phase: usize, from: &[NodeId]) -> Option<f64> {
+        if from.len() != self.capture.len() {
+            return None;
+        }
+        let period = self.plan.period.max(1);
+        let mut escape = 1.0;
+        for (unit, &v) in self.capture.iter().zip(from) {
+            let at = unit.get(t)?.get(phase % period)?;
+            let (_, p) = at.iter().find(|(w, _)| *w == v)?;
+            escape *= 1.0 - p;
+        }
+        Some(1.0 - escape)
+    }
+
+    /// The least capture probability of the attacks started at phases up to `max_phase`:
+    /// the best the attacker can hope for.
+    pub fn least_capture(&self, max_phase: usize) -> f64 {
+        self.plan
+            .threats
+            .iter()
+            .filter(|t| t.phase <= max_phase)
+            .map(|t| t.capture_probability)
+            .fold(1.0, f64::min)
+    }
+
+    /// The checkpoint within `tolerance` metres (horizontally) of world point `p`, the
+    /// nearest one; `None` if there is none (in flight between checkpoints).
+    pub fn checkpoint_near(&self, p: [f64; 3], tolerance: f64) -> Option<NodeId> {
+        self.points
+            .iter()
+            .enumerate()
+            .map(|(v, q)| (v, libm::hypot(q[0] - p[0], q[1] - p[1])))
+            .filter(|&(_, d)| d <= tolerance)
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+            .map(|(v, _)| v)
+    }
+}
