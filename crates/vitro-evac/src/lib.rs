@@ -314,6 +314,7 @@ impl Mission {
             let v = a.verdict(&logs);
             m.patrol_attacks += 1;
             m.patrol_attacks_stopped += u64::from(v.stopped);
+            m.patrol_attacks_misread += u64::from(v.misread);
             all += a.capture;
             if v.on_schedule {
                 m.patrol_attacks_on_schedule += 1;

@@ -207,6 +207,10 @@ fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
             "patrol_capture_on_schedule",
             m.patrol_capture_on_schedule.into(),
         ),
+        (
+            "patrol_attacks_misread",
+            Metric::count(m.patrol_attacks_misread),
+        ),
         ("events", Metric::count(m.events)),
         ("sim_time_s", Metric::Float(m.sim_time_s)),
         ("trace_hash", Metric::Text(format!("{trace:016x}"))),

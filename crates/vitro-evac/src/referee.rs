@@ -83,6 +83,9 @@ pub struct Metrics {
     pub patrol_stopped_on_schedule: u64,
     /// Mean computed capture probability of the attacks on schedule (absent without any).
     pub patrol_capture_on_schedule: Option<f64>,
+    /// Attacks started on a misread state: some Skeldar was not at the vertex and phase the
+    /// attacker believed (its phase from its own sightings of the truck).
+    pub patrol_attacks_misread: u64,
     /// Events fired.
     pub events: u64,
     /// Simulated time at the end, seconds.

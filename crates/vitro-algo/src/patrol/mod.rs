@@ -37,6 +37,9 @@
 //!    on larger ones the box budget ([`SolveOptions::max_nodes`]) runs out, `exact` is false,
 //!    and the solution is the best policy found with a certified but looser `lower_bound`.
 //!
+//! The LP solver is [`SolveOptions::lp`]: microlp (default) or Clarabel ([`LpBackend`];
+//! example `lp_backends` compares them).
+//!
 //! The value [`solve`] reports is always the exact value of the returned policy (computed by
 //! the recursion above, checked by [`monte_carlo`]); only its optimality is conditional on
 //! `exact`. Optima are in general irrational: on a path of four vertices with targets of

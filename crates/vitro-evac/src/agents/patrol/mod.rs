@@ -51,6 +51,23 @@
 //! rejoins). With the truck at the extraction point, or out of track, it stays. Its heat
 //! map is where its policy puts it in the long run at the current phase
 //! ([`PatrolGame::heat`]).
+//!
+//! # The game's attacker, and when the guarantee holds
+//!
+//! The first `patrol.attackers` red troopers play the game's attacker ([`attack`]): briefed
+//! with the policies, they watch the Skeldars and the truck and strike once, where the game
+//! says. The computed capture probability of an attack is exact — the realised stop rate
+//! agrees with it over many runs (`experiments/mission_patrol.toml`,
+//! `scripts/patrol_table.py`) — under these conditions: (1) the attacker read the state
+//! right (each Skeldar at the vertex and phase it believed); (2) through the attack's
+//! `attack_steps` steps every Skeldar drew its moves from its policy, i.e. the truck kept
+//! its timetable within [`LOCK_TOLERANCE_M`] (no hold, no skip, no rejoin) and the Skeldar
+//! was not sent hunting; (3) the attack ends by the extraction point (the mission never
+//! plays the timetable's fictional return). The report counts the attacks for which (1) and
+//! (2) held (`patrol_attacks_on_schedule`). Outside them the patrol still runs (holding or
+//! skipping ahead, as above) but the number is not a guarantee: the plan is not re-solved
+//! from the current state when the truck deviates (a receding-horizon re-solve is not
+//! implemented).
 
 use crate::brief::Brief;
 use crate::error::MissionError;
@@ -464,7 +481,7 @@ mod tests {
 
     /// A straight route of 8 nodes 100 m apart; checkpoints on the nodes, edges up to 200 m.
     /// The convoy waits three steps at 300 m.
-    fn game() -> PatrolGame {
+    pub(super) fn game() -> PatrolGame {
         let edges: Vec<(usize, usize)> = (0..7)
             .map(|i| (i, i + 1))
             .chain((0..6).map(|i| (i, i + 2)))
