@@ -1,4 +1,5 @@
-//! Local optimisation of a Markov policy by successive linear programming (good_lp + microlp).
+//! Local optimisation of a Markov policy by successive linear programming (good_lp + Clarabel
+//! or microlp).
 //!
 //! The patroller's problem on a fixed support is
 //! `minimise z  s.t.  z ≥ value_t · (1 − P(t, h; α))` for every attack `(t, h)`, with each row

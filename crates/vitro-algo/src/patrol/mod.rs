@@ -23,12 +23,12 @@
 //! optimum can be irrational. [`solve`] therefore works in two stages:
 //!
 //! 1. **Local (mathematical programming).** On each candidate support, successive linear
-//!    programming (good_lp + microlp): linearise every `P(t, h)` at the current policy, solve
+//!    programming (good_lp): linearise every `P(t, h)` at the current policy, solve
 //!    the LP `min z s.t. z ≥ value_t · (1 − linearised P(t, h))`, rows stochastic, within a
 //!    trust region; repeat. This finds a good policy fast but only a *local* optimum.
 //! 2. **Exact (certified).** Branch and bound over boxes of transition probabilities on every
 //!    connected support (module `exact`). Lower bounds come from the monotonicity of `P` in
-//!    each entry: an interval recursion, and an LP relaxation (good_lp + microlp again) whose
+//!    each entry: an interval recursion, and an LP relaxation (good_lp again) whose
 //!    error shrinks with the square of the box width. When the search finishes, the returned
 //!    policy is within [`SolveOptions::tolerance`] of the best value over **all** stationary
 //!    Markov policies on **all** supports: [`Solution::exact`] is then true and
