@@ -294,7 +294,7 @@ impl Mission {
     /// The patrol attacks and the umpire's verdicts: each attacker's attack against the
     /// Skeldars' step logs (plan unit order).
     fn patrol_attacks(&self, m: &mut Metrics) {
-        let mut logs: Vec<(usize, &[agents::patrol::attack::StepLog])> = Vec::new();
+        let mut logs: Vec<(usize, &[agents::patrol::steps::StepLog])> = Vec::new();
         let mut attacks = Vec::new();
         for mem in &self.members {
             let agent = self.sim.agent(mem.id).map(|a| a.as_any());
@@ -308,7 +308,7 @@ impl Mission {
             }
         }
         logs.sort_by_key(|l| l.0);
-        let logs: Vec<&[agents::patrol::attack::StepLog]> = logs.into_iter().map(|l| l.1).collect();
+        let logs: Vec<&[agents::patrol::steps::StepLog]> = logs.into_iter().map(|l| l.1).collect();
         let (mut all, mut on) = (0.0, 0.0);
         for a in attacks {
             let v = a.verdict(&logs);

@@ -145,10 +145,15 @@ fn the_games_attacker_strikes_once_and_the_umpire_judges_it() {
     assert!(x.patrol_stopped_on_schedule <= x.patrol_attacks_stopped);
     assert!(x.patrol_stopped_on_schedule <= x.patrol_attacks_on_schedule);
     assert!(x.patrol_attacks_misread + x.patrol_attacks_on_schedule <= x.patrol_attacks);
-    let p = x.patrol_capture_computed.expect("an attack, a computed probability");
+    let p = x
+        .patrol_capture_computed
+        .expect("an attack, a computed probability");
     // No attack beats the game's least capture probability over the trip.
     let least = x.patrol_capture_probability.expect("a patrol game");
-    assert!((least - 1e-9..=1.0).contains(&p), "computed {p}, least {least}");
+    assert!(
+        (least - 1e-9..=1.0).contains(&p),
+        "computed {p}, least {least}"
+    );
     // Without attackers: no attack, no computed probability.
     let text = std::fs::read_to_string(SCENARIO).expect("the default scenario");
     let none = text.replacen("attackers = 1 ", "attackers = 0 ", 1);

@@ -71,11 +71,11 @@
 
 use crate::brief::Brief;
 use crate::error::MissionError;
-use attack::{CaptureTable, StepKind, StepLog, capture_table};
 use board::{Board, project, targets};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::sync::{Arc, Mutex};
+use steps::{CaptureTable, StepKind, StepLog, capture_table};
 use vitro_algo::graph::{Graph, NodeId};
 use vitro_algo::patrol::{PatrolPlan, PlanParams, Target};
 use vitro_site::geo::{P2, dist};
@@ -83,6 +83,7 @@ use vitro_tactical::types::TypeBook;
 
 pub mod attack;
 mod board;
+pub mod steps;
 
 pub use board::REACH_SHARE;
 
