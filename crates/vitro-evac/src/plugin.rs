@@ -192,6 +192,28 @@ fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
         ),
         ("patrol_cover_fraction", m.patrol_cover_fraction.into()),
         ("patrol_sight_fraction", m.patrol_sight_fraction.into()),
+        ("patrol_attacks", Metric::count(m.patrol_attacks)),
+        (
+            "patrol_attacks_stopped",
+            Metric::count(m.patrol_attacks_stopped),
+        ),
+        ("patrol_capture_computed", m.patrol_capture_computed.into()),
+        (
+            "patrol_attacks_on_schedule",
+            Metric::count(m.patrol_attacks_on_schedule),
+        ),
+        (
+            "patrol_stopped_on_schedule",
+            Metric::count(m.patrol_stopped_on_schedule),
+        ),
+        (
+            "patrol_capture_on_schedule",
+            m.patrol_capture_on_schedule.into(),
+        ),
+        (
+            "patrol_attacks_misread",
+            Metric::count(m.patrol_attacks_misread),
+        ),
         ("events", Metric::count(m.events)),
         ("sim_time_s", Metric::Float(m.sim_time_s)),
         ("trace_hash", Metric::Text(format!("{trace:016x}"))),
@@ -375,6 +397,18 @@ fn summary(mission: &Mission, m: &Metrics) -> Vec<(String, String)> {
                 "capture probability {p:.2} (computed); truck within cover radius {}, within sensor range {} of the escort",
                 pct(m.patrol_cover_fraction),
                 pct(m.patrol_sight_fraction)
+            ),
+        ));
+    }
+    if let Some(p) = m.patrol_capture_computed {
+        out.push((
+            "patrol attacks".to_owned(),
+            format!(
+                "{} started, {} stopped (computed capture probability {p:.2}); {} with the patrol on schedule, {} of them stopped",
+                m.patrol_attacks,
+                m.patrol_attacks_stopped,
+                m.patrol_attacks_on_schedule,
+                m.patrol_stopped_on_schedule
             ),
         ));
     }

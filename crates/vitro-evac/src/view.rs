@@ -235,7 +235,13 @@ pub fn metric_map(m: &super::Metrics) -> BTreeMap<String, f64> {
     out.insert("vehicle_stalls".into(), m.vehicle_stalls as f64);
     out.insert("aircraft_down".into(), m.aircraft_down as f64);
     out.insert("shots".into(), m.shots as f64);
+    out.insert("patrol_attacks".into(), m.patrol_attacks as f64);
+    out.insert(
+        "patrol_attacks_stopped".into(),
+        m.patrol_attacks_stopped as f64,
+    );
     let patrol = [
+        ("patrol_capture_computed", m.patrol_capture_computed),
         ("patrol_capture_probability", m.patrol_capture_probability),
         ("patrol_cover_fraction", m.patrol_cover_fraction),
         ("patrol_sight_fraction", m.patrol_sight_fraction),

@@ -171,7 +171,8 @@ impl Aircraft {
         let Some(unit) = self.patrol.as_mut() else {
             return;
         };
-        let Some(next) = unit.step(truck, cx.rng("patrol")) else {
+        let now = cx.now().as_secs_f64();
+        let Some(next) = unit.step(truck, now, cx.rng("patrol")) else {
             return;
         };
         let Some(p) = unit.game.point(next) else {

@@ -303,6 +303,21 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
         (1..=1000).contains(&it),
         "a number of iterations in 1..=1000",
     );
+    let a = p.attackers;
+    c.value(
+        "patrol.attackers",
+        a,
+        (0..=100).contains(&a),
+        "a number of attackers in 0..=100",
+    );
+    c.num(
+        "patrol.watch_range_m",
+        p.watch_range_m,
+        true,
+        0.0,
+        1e6,
+        "metres",
+    );
 
     let budget = f.pursuit.budget;
     let ok = (1..=10_000_000).contains(&budget);
