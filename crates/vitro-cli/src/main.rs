@@ -6,6 +6,7 @@
 //! vitro validate SCENARIO
 //! vitro plan DOMAIN PROBLEM [--optimal] [--json]
 //! vitro solve cops GRAPH.edges [--json]
+//! vitro solve pursuit GRAPH.edges --pursuers K [--visibility HOPS] [--algorithm mcts|minimax] [--evader exact|mcts|flee] --budget B --episodes N --turns T [--seed S] [--json]
 //! vitro check levels [--json]
 //! vitro export kml RUN.mcap [--out FILE.kml]
 //! vitro map info FILE.osm.pbf [--json]
@@ -33,6 +34,7 @@ mod run;
 mod run_args;
 mod search;
 mod solve;
+mod solve_pursuit;
 mod validate;
 mod view;
 

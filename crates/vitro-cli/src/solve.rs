@@ -16,6 +16,9 @@ pub(crate) enum SolveCommand {
     Cops(CopsArgs),
     /// The best randomised patrol of a patrolling game (static or moving targets).
     Patrol(PatrolArgs),
+    /// Pursuit–evasion as a game: the pursuers' search against a smart evader, over many
+    /// episodes (capture rate with its 95% interval).
+    Pursuit(crate::solve_pursuit::PursuitArgs),
 }
 
 #[derive(Debug, Args)]
@@ -56,11 +59,12 @@ pub(crate) fn solve(cmd: &SolveCommand) -> Result<(), Failure> {
     match cmd {
         SolveCommand::Cops(args) => cops(args),
         SolveCommand::Patrol(args) => patrol(args),
+        SolveCommand::Pursuit(args) => crate::solve_pursuit::pursuit(args),
     }
 }
 
 /// Loads an edge list; errors name the file, line and column.
-fn load_graph(path: &Path) -> Result<Graph, Failure> {
+pub(crate) fn load_graph(path: &Path) -> Result<Graph, Failure> {
     Graph::load(path).map_err(|e| match e {
         GraphError::Parse {
             line,
