@@ -1,7 +1,7 @@
 //! Many episodes: capture rate with its interval, capture time, time in sight.
 
-use super::{GameEvader, TeamStrategy, play_game};
 use super::super::{Arena, PursuitError};
+use super::{GameEvader, TeamStrategy, play_game};
 use crate::graph::NodeId;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -102,10 +102,7 @@ impl GameEvader for ExactEvader {
     }
 
     fn place(&mut self, arena: &Arena, pursuers: &[NodeId], rng: &mut ChaCha8Rng) -> NodeId {
-        best_by(0..arena.node_count(), rng, |v| {
-            self.key(arena, pursuers, v)
-        })
-        .unwrap_or(0)
+        best_by(0..arena.node_count(), rng, |v| self.key(arena, pursuers, v)).unwrap_or(0)
     }
 
     fn choose(&mut self, info: &EvaderInfo<'_>, rng: &mut ChaCha8Rng) -> NodeId {
@@ -140,7 +137,10 @@ impl GameEvader for FleeingHider {
     }
 
     fn place(&mut self, arena: &Arena, pursuers: &[NodeId], rng: &mut ChaCha8Rng) -> NodeId {
-        best_by(0..arena.node_count(), rng, |v| Self::key(arena, pursuers, v)).unwrap_or(0)
+        best_by(0..arena.node_count(), rng, |v| {
+            Self::key(arena, pursuers, v)
+        })
+        .unwrap_or(0)
     }
 
     fn choose(&mut self, info: &EvaderInfo<'_>, rng: &mut ChaCha8Rng) -> NodeId {

@@ -339,7 +339,12 @@ impl Search<'_> {
 }
 
 impl MoIsmcts {
-    fn search<'a>(&mut self, arena: &'a Arena, root: &Root<'_>, rng: &mut ChaCha8Rng) -> Search<'a> {
+    fn search<'a>(
+        &mut self,
+        arena: &'a Arena,
+        root: &Root<'_>,
+        rng: &mut ChaCha8Rng,
+    ) -> Search<'a> {
         let mut s = Search {
             arena,
             cfg: self.config,

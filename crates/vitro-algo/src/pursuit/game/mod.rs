@@ -133,7 +133,12 @@ fn illegal(who: &'static str, from: NodeId, to: NodeId) -> PursuitError {
 }
 
 /// Applies the pursuers' observation of the evader at `evader` to `belief`; true if seen.
-pub(crate) fn observe(arena: &Arena, pursuers: &[NodeId], evader: NodeId, belief: &mut Belief) -> bool {
+pub(crate) fn observe(
+    arena: &Arena,
+    pursuers: &[NodeId],
+    evader: NodeId,
+    belief: &mut Belief,
+) -> bool {
     if pursuers.iter().any(|&p| arena.sees(p, evader)) {
         belief.collapse(evader);
         true

@@ -15,9 +15,12 @@
 //! plays the best move of the last completed depth. Pursuers are interchangeable, so joint
 //! moves that are permutations of one another are searched once. Leaves are scored (team's
 //! view, in `[0, 1]`) by `0.4 * [evader located] + 0.3 * (1 - (|S| - 1) / n) + 0.3 * (1 -
-//! d / D)`, with `d` the worst case over `S` of the distance to the nearest pursuer and `D`
-//! the diameter: the objectives again, capture first (capture scores `10 - 0.01 * round`),
-//! then sight and a small information set.
+//! d / D)`, with `d` the mean over `S` of the distance to the nearest pursuer and `D` the
+//! diameter: the objectives again, capture first (capture scores `10 - 0.01 * round`), then
+//! sight and a small information set. (The leaf score is a heuristic; only the max–min over
+//! moves and observations is worst-case. Where no capture can be guaranteed within the
+//! depth, the values are heuristic guarantees only, and the search is weak: see the anytime
+//! evidence.)
 
 use super::super::Budget;
 use super::super::sim::chase_step;
@@ -97,7 +100,11 @@ fn joint_moves(arena: &Arena, pursuers: &[NodeId], toward: NodeId) -> Vec<Vec<No
         key.sort_unstable();
         seen.insert(key)
     });
-    out.sort_by_key(|m| m.iter().map(|&v| u32::from(arena.dist(v, toward))).sum::<u32>());
+    out.sort_by_key(|m| {
+        m.iter()
+            .map(|&v| u32::from(arena.dist(v, toward)))
+            .sum::<u32>()
+    });
     out
 }
 
@@ -105,20 +112,23 @@ impl Search<'_> {
     fn over_budget(&mut self) -> bool {
         self.nodes += 1;
         self.nodes > self.limit
-            || (self.nodes.is_multiple_of(256) && self.deadline.is_some_and(|d| Instant::now() >= d))
+            || (self.nodes.is_multiple_of(256)
+                && self.deadline.is_some_and(|d| Instant::now() >= d))
     }
 
     fn leaf(&self, pursuers: &[NodeId], set: &[NodeId]) -> f64 {
         let a = self.arena;
         let diameter = f64::from(a.diameter().max(1));
-        let worst = set
+        // The mean over `S` of the distance to the nearest pursuer: progress in sweeping `S`
+        // (its worst case is flat while no capture can be guaranteed).
+        let total: u64 = set
             .iter()
-            .map(|&s| pursuers.iter().map(|&p| a.dist(p, s)).min().unwrap_or(0))
-            .max()
-            .unwrap_or(0);
+            .map(|&s| u64::from(pursuers.iter().map(|&p| a.dist(p, s)).min().unwrap_or(0)))
+            .sum();
+        let mean = total as f64 / set.len().max(1) as f64;
         let located = if set.len() == 1 { 1.0 } else { 0.0 };
         let small = 1.0 - (set.len().saturating_sub(1)) as f64 / a.node_count() as f64;
-        let near = 1.0 - (f64::from(worst) / diameter).min(1.0);
+        let near = 1.0 - (mean / diameter).min(1.0);
         0.4 * located + 0.3 * small + 0.3 * near
     }
 
