@@ -248,10 +248,10 @@ impl Search<'_> {
         let horizon = root.horizon.max(1);
         while rounds < horizon {
             if !evader_first {
-                for i in 0..pursuers.len() {
-                    let p = pursuers[i];
+                for piece in pursuers.iter_mut() {
+                    let p = *piece;
                     let moves = arena.moves(p);
-                    pursuers[i] = if in_tree {
+                    *piece = if in_tree {
                         let (slot, child, new) = self.team.decide(pn, moves.len(), c, rng);
                         pn = child;
                         team_path.push(child);
