@@ -25,6 +25,7 @@ mod batch;
 mod check;
 mod export;
 mod failure;
+mod graph_file;
 mod map;
 mod missions;
 mod plan;

@@ -1,13 +1,13 @@
 //! `vitro solve ...`: the game-theoretic solvers of `vitro-algo`.
 
 use crate::Failure;
+use crate::graph_file::load_graph;
 use anyhow::anyhow;
 use clap::{Args, Subcommand};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use vitro_algo::cops::{CopOptions, CopsError, Decision, cop_number};
-use vitro_algo::graph::{Graph, GraphError};
 use vitro_algo::patrol::{self, Instance, PatrolError, Policy, SolveOptions};
 
 #[derive(Debug, Subcommand)]
@@ -61,18 +61,6 @@ pub(crate) fn solve(cmd: &SolveCommand) -> Result<(), Failure> {
         SolveCommand::Patrol(args) => patrol(args),
         SolveCommand::Pursuit(args) => crate::solve_pursuit::pursuit(args),
     }
-}
-
-/// Loads an edge list; errors name the file, line and column.
-pub(crate) fn load_graph(path: &Path) -> Result<Graph, Failure> {
-    Graph::load(path).map_err(|e| match e {
-        GraphError::Parse {
-            line,
-            column,
-            message,
-        } => Failure::Input(anyhow!("{}:{line}:{column}: {message}", path.display())),
-        other => Failure::Input(anyhow!("{}: {other}", path.display())),
-    })
 }
 
 #[derive(Serialize)]

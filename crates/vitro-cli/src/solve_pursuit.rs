@@ -101,7 +101,7 @@ pub(crate) fn pursuit(args: &PursuitArgs) -> Result<(), Failure> {
     positive("budget", args.budget)?;
     positive("episodes", args.episodes as u64)?;
     positive("turns", u64::from(args.turns))?;
-    let graph = crate::solve::load_graph(&args.graph)?;
+    let graph = crate::graph_file::load_graph(&args.graph)?;
     let place = args.graph.display().to_string();
     let arena = match args.visibility {
         Some(h) => Arena::new(graph.clone(), &HopRange::new(&graph, h)),

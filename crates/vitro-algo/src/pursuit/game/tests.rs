@@ -12,6 +12,9 @@ fn load(name: &str) -> Graph {
     Graph::load(&path).unwrap()
 }
 
+/// Makes a fresh pursuer team.
+type MakeTeam = dyn Fn() -> Box<dyn TeamStrategy>;
+
 fn mcts(b: u64) -> MoIsmcts {
     MoIsmcts::new(MoIsmctsConfig {
         budget: Budget::iterations(b),
@@ -27,13 +30,7 @@ fn minimax(b: u64) -> WorstCaseMinimax {
 }
 
 /// Captures out of `episodes` by `k` pursuers playing `team` against the exact evader.
-fn captures(
-    arena: &Arena,
-    k: usize,
-    episodes: usize,
-    rounds: u32,
-    team: &dyn Fn() -> Box<dyn TeamStrategy>,
-) -> EvalSummary {
+fn captures(arena: &Arena, k: usize, episodes: usize, rounds: u32, team: &MakeTeam) -> EvalSummary {
     let exact = ExactEvader::new(arena, k).unwrap();
     evaluate(arena, k, episodes, rounds, 11, &mut || team(), &mut || {
         Box::new(exact.clone())
@@ -55,7 +52,7 @@ fn cop_number_pursuers_capture_and_one_fewer_never_do() {
         let g = load(name);
         let c = cop_number(&g, &CopOptions::default()).unwrap().cop_number;
         let arena = Arena::new(g, &FullVisibility).unwrap();
-        let teams: [(&str, &dyn Fn() -> Box<dyn TeamStrategy>); 2] = [
+        let teams: [(&str, &MakeTeam); 2] = [
             ("mcts", &|| Box::new(mcts(300))),
             ("minimax", &|| Box::new(minimax(3000))),
         ];
