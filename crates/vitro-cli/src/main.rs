@@ -6,6 +6,7 @@
 //! vitro validate SCENARIO
 //! vitro plan DOMAIN PROBLEM [--optimal] [--json]
 //! vitro solve cops GRAPH.edges [--json]
+//! vitro solve pursuit GRAPH.edges --pursuers K [--visibility HOPS] [--algorithm mcts|minimax] [--evader exact|mcts|flee] --budget B --episodes N --turns T [--seed S] [--json]
 //! vitro check levels [--json]
 //! vitro export kml RUN.mcap [--out FILE.kml]
 //! vitro map info FILE.osm.pbf [--json]
@@ -24,6 +25,7 @@ mod batch;
 mod check;
 mod export;
 mod failure;
+mod graph_file;
 mod map;
 mod missions;
 mod plan;
@@ -33,6 +35,7 @@ mod run;
 mod run_args;
 mod search;
 mod solve;
+mod solve_pursuit;
 mod validate;
 mod view;
 

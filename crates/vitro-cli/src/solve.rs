@@ -1,13 +1,13 @@
 //! `vitro solve ...`: the game-theoretic solvers of `vitro-algo`.
 
 use crate::Failure;
+use crate::graph_file::load_graph;
 use anyhow::anyhow;
 use clap::{Args, Subcommand};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use vitro_algo::cops::{CopOptions, CopsError, Decision, cop_number};
-use vitro_algo::graph::{Graph, GraphError};
 use vitro_algo::patrol::{self, Instance, PatrolError, Policy, SolveOptions};
 
 #[derive(Debug, Subcommand)]
@@ -16,6 +16,9 @@ pub(crate) enum SolveCommand {
     Cops(CopsArgs),
     /// The best randomised patrol of a patrolling game (static or moving targets).
     Patrol(PatrolArgs),
+    /// Pursuit–evasion as a game: the pursuers' search against a smart evader, over many
+    /// episodes (capture rate with its 95% interval).
+    Pursuit(crate::solve_pursuit::PursuitArgs),
 }
 
 #[derive(Debug, Args)]
@@ -56,19 +59,8 @@ pub(crate) fn solve(cmd: &SolveCommand) -> Result<(), Failure> {
     match cmd {
         SolveCommand::Cops(args) => cops(args),
         SolveCommand::Patrol(args) => patrol(args),
+        SolveCommand::Pursuit(args) => crate::solve_pursuit::pursuit(args),
     }
-}
-
-/// Loads an edge list; errors name the file, line and column.
-fn load_graph(path: &Path) -> Result<Graph, Failure> {
-    Graph::load(path).map_err(|e| match e {
-        GraphError::Parse {
-            line,
-            column,
-            message,
-        } => Failure::Input(anyhow!("{}:{line}:{column}: {message}", path.display())),
-        other => Failure::Input(anyhow!("{}: {other}", path.display())),
-    })
 }
 
 #[derive(Serialize)]

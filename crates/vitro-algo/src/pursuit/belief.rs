@@ -152,6 +152,19 @@ impl Belief {
         self.normalize();
     }
 
+    /// The piece is at none of `vertices` (e.g. the pursuers' own vertices, after a move that
+    /// caught nobody). The set becomes empty only if that contradicts it.
+    pub fn remove(&mut self, vertices: &[NodeId]) {
+        for &v in vertices {
+            if self.member.get(v).copied().unwrap_or(false) {
+                self.member[v] = false;
+                self.prob[v] = 0.0;
+                self.size -= 1;
+            }
+        }
+        self.normalize();
+    }
+
     fn normalize(&mut self) {
         let total: f64 = self.members().map(|v| self.prob[v]).sum();
         if total > 0.0 && total.is_finite() {

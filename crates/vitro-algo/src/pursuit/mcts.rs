@@ -1,4 +1,10 @@
-//! Information-set Monte-Carlo tree search by determinization.
+//! Information-set Monte-Carlo tree search by determinization (the mission's hunt search).
+//!
+//! **Not game-theoretic**: the tree holds only the searcher's own moves and the opponent is
+//! the scripted epsilon-greedy default policy below, so the opponent modelled is no smarter
+//! than that script. The game-theoretic search, with the opponent's decisions in their own
+//! tree and the observations simulated, is [`super::game::MoIsmcts`]; this one is kept
+//! because the evacuation mission's hunt (and its trace hashes) use it.
 //!
 //! Each iteration samples the opponent's positions from the belief (a determinization), then
 //! descends a UCT tree over the searching side's own moves. A pursuer team's joint move is

@@ -1,4 +1,12 @@
-//! Iterative-deepening alpha-beta minimax over sampled information sets.
+//! Iterative-deepening alpha-beta minimax over sampled information sets (the mission's hunt
+//! search).
+//!
+//! **Strategy fusion**: each sampled determinization is searched as a perfect-information
+//! game and the root values are averaged, so below the root the searcher plays as if it knew
+//! the sampled position; the values are neither guaranteed nor expected values of the
+//! imperfect-information game. The search without that flaw is
+//! [`super::game::WorstCaseMinimax`] (alpha-beta over information states); this one is kept
+//! because the evacuation mission's hunt (and its trace hashes) use it.
 //!
 //! At each move the searcher draws `samples` determinizations of the opponent from its belief
 //! (duplicates merged, weighted by multiplicity). One search turn is an own move followed by

@@ -40,6 +40,7 @@
 mod baseline;
 mod belief;
 mod episode;
+pub mod game;
 mod mcts;
 mod minimax;
 mod sim;

@@ -228,12 +228,9 @@ fn more_iterations_improve_success() {
         high > low,
         "mcts: {low} captures with 2 iterations, {high} with 300"
     );
-    let x = |b| Box::new(minimax(b)) as Box<dyn PursuerStrategy>;
-    let (low, high) = (capture_rate(&x, 10), capture_rate(&x, 5000));
-    assert!(
-        high >= low,
-        "minimax: {low} captures with 10 nodes, {high} with 5000"
-    );
+    // The determinized minimax averages determinizations (strategy fusion, see its module
+    // docs): no anytime claim is made for it here. The anytime assertions for the
+    // game-theoretic searches are in `game::tests::more_budget_captures_more`.
 }
 
 #[test]
