@@ -1,0 +1,332 @@
+//! The commander's side of the HVT hunt: the pursuer slots are allocated by contract net
+//! ([`vitro::protocol::contract_net`]).
+//!
+//! When the HVT is first reported, the commander opens `mission.hvt_pursuers` slots (every
+//! trooper still up once the VIP is out) and calls for proposals for one slot at a time
+//! ([`Radio::Tender`] `"hunt"`, with the target's last reported place) among the troopers
+//! it counts on: the team, less those it knows are down and those already hunting. Each
+//! trooper bids its own cost (see [`LEAD_COST_M`](crate::agents::trooper::LEAD_COST_M)); the
+//! lowest wins and joins the hunt, and the next slot is called. A hunter is *lost* when it
+//! is reported down, when the hunt lead reports it silent (no position report for long
+//! turns: down unseen, or out of radio reach), or when its contract fails (its accept
+//! bounced, or it gave no report within [`CONTRACT_S`]): it leaves
+//! the roster and its slot is called again among the others (a *reallocation*). A
+//! contract that ran out while the hunter is still on the roster is called again with the
+//! hunter among the bidders: it keeps its place if it bids best. A call nobody answered is
+//! repeated every 30 s while slots are open.
+
+use super::{Commander, Phase, REPEAT_S};
+use crate::agents::tell;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use vitro::entity::EntityId;
+use vitro::protocol::{CallFailure, CnetConfig, CnetEvent, ContractNet, Participants, TimerTag};
+use vitro::sim::Context;
+use vitro::time::{SimDuration, SimTime};
+use vitro_tactical::model::Tactical;
+use vitro_tactical::radio::{Order, Radio};
+
+/// The task name of a hunt slot's call.
+pub const HUNT_TASK: &str = "hunt";
+/// How long a hunter's contract runs without a report before its slot is called again,
+/// seconds (a hunter reports `done` when the target is captured).
+pub const CONTRACT_S: u64 = 1200;
+/// The timer tag of the contract net (the commander's and the troopers').
+pub const CNET: TimerTag = TimerTag(0x434e);
+
+/// The contract net's deadlines in the mission: 1 s to propose (radio delays are tens of
+/// milliseconds), [`CONTRACT_S`] to report, proposals bind for 3 s.
+pub fn cnet_config() -> CnetConfig {
+    CnetConfig {
+        proposal_deadline: SimDuration::from_secs(1),
+        report_deadline: SimDuration::from_secs(CONTRACT_S),
+        proposal_expiry: SimDuration::from_secs(3),
+    }
+}
+
+/// The commander's allocation of the hunt's pursuer slots.
+#[derive(Debug, Serialize, Deserialize)]
+pub struct Tender {
+    cnet: ContractNet<Radio>,
+    /// Slots still to fill.
+    open: u32,
+    /// The call out (conversation), if any: one at a time.
+    call: Option<u64>,
+    /// When the last call went out.
+    called_at: SimTime,
+    /// The hunter whose contract ran out, bidding again in the call out.
+    renewing: Option<EntityId>,
+    /// The running contracts: hunter → conversation.
+    contracts: BTreeMap<EntityId, u64>,
+    /// Where the target was last reported, world (x, y).
+    target_at: Option<[f64; 2]>,
+    /// Calls for proposals made.
+    pub calls: u64,
+    /// Slots awarded (renewals included).
+    pub awards: u64,
+    /// Slots called again because a hunter was lost.
+    pub reallocations: u64,
+    /// Contracts reported done (the target captured).
+    pub done: u64,
+}
+
+impl Default for Tender {
+    fn default() -> Self {
+        Tender {
+            cnet: ContractNet::new(CNET, cnet_config()),
+            open: 0,
+            call: None,
+            called_at: SimTime::ZERO,
+            renewing: None,
+            contracts: BTreeMap::new(),
+            target_at: None,
+            calls: 0,
+            awards: 0,
+            reallocations: 0,
+            done: 0,
+        }
+    }
+}
+
+impl Tender {
+    /// The contract net machine (the commander hands it its inputs).
+    pub(super) fn cnet(&mut self) -> &mut ContractNet<Radio> {
+        &mut self.cnet
+    }
+    /// Pursuer slots still to fill.
+    pub fn open(&self) -> u32 {
+        self.open
+    }
+    /// Calls, awards and reallocations so far.
+    pub fn counts(&self) -> (u64, u64, u64) {
+        (self.calls, self.awards, self.reallocations)
+    }
+}
+
+impl Commander {
+    /// Whether pursuers are out after the HVT, not yet captured.
+    pub(super) fn hunting(&self) -> bool {
+        !self.hunters.is_empty() && !self.hunt_pending && !self.hunt_done
+    }
+
+    /// The troopers a call goes to: the team, less the fallen and the hunters.
+    fn bidders(&self) -> Vec<EntityId> {
+        (self.brief.team.iter().copied())
+            .filter(|id| !self.fallen.contains(id) && !self.hunters.contains(id))
+            .collect()
+    }
+
+    /// The HVT was reported at `at`: the first report opens `hvt_pursuers` slots (as many as
+    /// troopers are up once the VIP is out) and calls for the first.
+    pub(super) fn start_hunt(&mut self, at: [f64; 3], cx: &mut Context<'_, Tactical>) {
+        self.tender.target_at = Some([at[0], at[1]]);
+        let k = self.brief.mission.hvt_pursuers;
+        if self.hunt_called || k == 0 || self.hunt_done {
+            return;
+        }
+        self.hunt_called = true;
+        self.tender.open = if self.phase == Phase::Done {
+            self.bidders().len() as u32
+        } else {
+            k
+        };
+        self.call_next(cx);
+    }
+
+    /// Every trooper still up joins the hunt (the VIP is out): one more slot for each.
+    pub(super) fn all_join(&mut self, cx: &mut Context<'_, Tactical>) {
+        let n = self.bidders().len() as u32;
+        self.tender.open = n.saturating_sub(u32::from(self.tender.call.is_some()));
+        self.call_next(cx);
+    }
+
+    /// Calls for proposals for the next open slot, unless a call is out, no slot is open,
+    /// the hunt is over or nobody is left to call.
+    pub(super) fn call_next(&mut self, cx: &mut Context<'_, Tactical>) {
+        let t = &self.tender;
+        if t.call.is_some() || t.open == 0 || self.hunt_done {
+            return;
+        }
+        let mut to = self.bidders();
+        if let Some(r) = t.renewing {
+            to.push(r);
+            to.sort();
+        }
+        let Some(at) = t.target_at.filter(|_| !to.is_empty()) else {
+            return;
+        };
+        let cfp = Radio::Tender {
+            task: HUNT_TASK.into(),
+            at,
+            cost: None,
+        };
+        let slot = u64::from(self.tender.open);
+        let conversation = self
+            .tender
+            .cnet
+            .announce(cx, Participants::Agents(&to), slot, cfp);
+        self.tender.call = Some(conversation);
+        self.tender.called_at = cx.now();
+        self.tender.calls += 1;
+    }
+
+    /// Calls again, at its next look, a slot whose last call found nobody.
+    pub(super) fn tender_tick(&mut self, cx: &mut Context<'_, Tactical>) {
+        let since = cx.now().saturating_since(self.tender.called_at);
+        if self.tender.call.is_none() && since.as_secs_f64() >= REPEAT_S {
+            self.call_next(cx);
+        }
+    }
+
+    /// The hunt lead's latest idea of the target's place (its `search` signal).
+    pub(super) fn search_point(&mut self, arg: &str) {
+        let v: Vec<f64> = arg.split_whitespace().filter_map(|s| s.parse().ok()).collect();
+        if let [x, y] = v[..] {
+            self.tender.target_at = Some([x, y]);
+        }
+    }
+
+    /// The contract net's events: awards, failures (reallocations), reports.
+    pub(super) fn on_cnet(&mut self, event: CnetEvent<'_, Radio>, cx: &mut Context<'_, Tactical>) {
+        match event {
+            CnetEvent::Awarded {
+                conversation,
+                winner,
+                ..
+            } => {
+                self.tender.call = None;
+                self.tender.awards += 1;
+                self.tender.contracts.insert(winner, conversation);
+                match self.tender.renewing.take() {
+                    // The contract renewed: the hunter keeps its place.
+                    Some(r) if r == winner => {}
+                    Some(r) => {
+                        self.drop_hunter(r, cx);
+                        self.add_hunter(winner, cx);
+                    }
+                    None => self.add_hunter(winner, cx),
+                }
+                self.tender.open = self.tender.open.saturating_sub(1);
+                self.call_next(cx);
+            }
+            CnetEvent::Failed {
+                conversation,
+                reason,
+                ..
+            } => {
+                let winner = match reason {
+                    CallFailure::NoProposals => {
+                        self.tender.call = None;
+                        // The hunter whose contract ran out did not bid: lost.
+                        if let Some(r) = self.tender.renewing.take() {
+                            self.drop_hunter(r, cx);
+                            self.tender.reallocations += 1;
+                        }
+                        return;
+                    }
+                    CallFailure::WinnerFailed { winner }
+                    | CallFailure::WinnerUnreachable { winner, .. }
+                    | CallFailure::ReportTimedOut { winner } => winner,
+                };
+                if self.tender.contracts.get(&winner) != Some(&conversation) {
+                    return;
+                }
+                self.tender.contracts.remove(&winner);
+                let still_heard = matches!(reason, CallFailure::ReportTimedOut { .. })
+                    && self.hunters.contains(&winner)
+                    && self.tender.renewing.is_none()
+                    && self.tender.call.is_none();
+                self.tender.open += 1;
+                if still_heard {
+                    // The contract ran out: the slot is called again, the hunter bidding too.
+                    self.tender.renewing = Some(winner);
+                } else {
+                    self.drop_hunter(winner, cx);
+                    self.tender.reallocations += 1;
+                }
+                self.call_next(cx);
+            }
+            CnetEvent::Done { winner, .. } => {
+                self.tender.contracts.remove(&winner);
+                self.tender.done += 1;
+            }
+            // The truck bids for nothing.
+            CnetEvent::CallForProposals { reply, .. } => {
+                let no = Radio::Signal("busy".into(), String::new());
+                self.tender.cnet.refuse(cx, reply, no);
+            }
+            _ => {}
+        }
+    }
+
+    /// Hunter `id` is lost (down, silent): it leaves the roster and its slot is called again.
+    pub(super) fn lose_hunter(&mut self, id: EntityId, cx: &mut Context<'_, Tactical>) {
+        if !self.hunters.contains(&id) {
+            return;
+        }
+        self.tender.contracts.remove(&id);
+        if self.tender.renewing == Some(id) {
+            self.tender.renewing = None;
+        } else if !self.hunt_done {
+            self.tender.open += 1;
+        }
+        self.tender.reallocations += 1;
+        self.drop_hunter(id, cx);
+        self.call_next(cx);
+    }
+
+    /// Takes `id` off the roster: it is told the new roster (without it: it leaves the
+    /// hunt), and so are the others.
+    fn drop_hunter(&mut self, id: EntityId, cx: &mut Context<'_, Tactical>) {
+        if !self.hunters.contains(&id) {
+            return;
+        }
+        self.hunters.retain(|&h| h != id);
+        let Some(target) = self.brief.hvt else { return };
+        if !self.fallen.contains(&id) && !self.hunt_pending {
+            let team = self.hunters.clone();
+            tell(cx, id, Radio::Order(Order::Pursue { target, team }));
+        }
+        if self.hunting() {
+            self.order_hunt(cx);
+        }
+    }
+
+    /// `id` won a slot: it joins the pursuers (let out at the next stop if the truck drives).
+    fn add_hunter(&mut self, id: EntityId, cx: &mut Context<'_, Tactical>) {
+        if self.hunters.contains(&id) || self.fallen.contains(&id) {
+            return;
+        }
+        self.hunters.push(id);
+        let waited = self.waiting.remove(&id);
+        self.reform(cx);
+        match self.phase {
+            Phase::Out | Phase::Back => self.hunt_pending = true,
+            _ if self.hunt_pending => {}
+            _ => self.release_hunters(cx),
+        }
+        if waited {
+            self.all_answered(cx);
+        }
+    }
+
+    /// Lets the pursuers out (if aboard) and sends them after the target.
+    pub(super) fn release_hunters(&mut self, cx: &mut Context<'_, Tactical>) {
+        self.hunt_pending = false;
+        let out: Vec<_> = (self.hunters.iter())
+            .map(|&id| (id, self.brief.troop_kind(id)))
+            .collect();
+        let _ = cx.act(&self.dismount, out);
+        self.order_hunt(cx);
+    }
+
+    /// Sends the pursuit order to every pursuer.
+    pub(super) fn order_hunt(&mut self, cx: &mut Context<'_, Tactical>) {
+        let Some(target) = self.brief.hvt else { return };
+        self.hunt_ordered_at = cx.now();
+        for &id in &self.hunters {
+            let team = self.hunters.clone();
+            tell(cx, id, Radio::Order(Order::Pursue { target, team }));
+        }
+    }
+}
