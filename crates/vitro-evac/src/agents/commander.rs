@@ -354,8 +354,8 @@ impl Commander {
                 return;
             }
             SILENT => {
-                // A pursuer (the hunt lead) is silent: lost (down unseen or out of reach).
-                // The next pursuer leads, and the slot is called again.
+                // The hunt lead is silent: lost (down unseen, or out of reach). The next
+                // pursuer leads, and the slot is called again.
                 let who = arg.trim().parse().ok().map(EntityId);
                 if let Some(id) = who.filter(|_| self.hunting()) {
                     self.lose_hunter(id, cx);

@@ -11,7 +11,6 @@
 
 use crate::brief::{BLUE, Brief};
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 use std::sync::Arc;
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;
@@ -40,8 +39,7 @@ pub const SEARCH: &str = "search";
 pub const LEAD_SILENT_TURNS: f64 = 3.0;
 
 /// `Radio::Signal(SILENT, id)`: pursuer → truck, hunt lead `id` has sent no move for
-/// [`LEAD_SILENT_TURNS`] long turns; or hunt lead → truck, pursuer `id` has sent no
-/// position report for as long (see [`Hunt::silent_pursuers`]).
+/// [`LEAD_SILENT_TURNS`] long turns.
 pub const SILENT: &str = "silent";
 
 /// The pursuit board shared by the hunters and the hunted: the walk graph with
@@ -162,8 +160,6 @@ pub struct Hunt {
     pub over: bool,
     /// When the target was last seen.
     pub last_seen: Option<SimTime>,
-    /// When it last reported each pursuer silent to the truck.
-    told_silent: BTreeMap<EntityId, SimTime>,
 }
 
 impl Hunt {
@@ -182,7 +178,6 @@ impl Hunt {
             turns: 0,
             over: false,
             last_seen: None,
-            told_silent: BTreeMap::new(),
         })
     }
 
@@ -259,28 +254,6 @@ impl Hunt {
             .collect();
         let us = self.brief.pursuit.think_us_per_iteration * f64::from(self.brief.pursuit.budget);
         HuntStep::Think(SimDuration::from_secs_f64(us * 1e-6))
-    }
-
-    /// The pursuers but `me` whose newest fix in `known` (position reports, own eyes) is
-    /// at least `silent` old at `now`, each at most once per `silent`: down where nobody
-    /// saw it, or out of radio reach. The lead reports them to the truck ([`SILENT`]).
-    pub fn silent_pursuers(
-        &mut self,
-        me: EntityId,
-        now: SimTime,
-        known: &Whereabouts,
-        silent: SimDuration,
-    ) -> Vec<EntityId> {
-        let mut out = Vec::new();
-        for &id in self.team.iter().filter(|&&id| id != me) {
-            let quiet = known.last(id).is_some_and(|f| f.age(now) >= silent);
-            let told = (self.told_silent.get(&id)).is_some_and(|&t| now.saturating_since(t) < silent);
-            if quiet && !told {
-                self.told_silent.insert(id, now);
-                out.push(id);
-            }
-        }
-        out
     }
 
     /// The orders of the last turn: each pursuer's next node.

@@ -7,15 +7,15 @@
 //! it counts on: the team, less those it knows are down and those already hunting. Each
 //! trooper bids its own cost (see [`LEAD_COST_M`](crate::agents::trooper::LEAD_COST_M)); the
 //! lowest wins and joins the hunt, and the next slot is called. A hunter is *lost* when it
-//! is reported down, when the hunt lead reports it silent (no position report for long
-//! turns: down unseen, or out of radio reach), or when its contract fails (its accept
+//! is reported down, when it led the hunt and the pursuers report it silent (no move for
+//! long turns: down unseen, or out of radio reach), or when its contract fails (its accept
 //! bounced, or it gave no report within [`CONTRACT_S`]): it leaves
 //! the roster and its slot is called again among the others (a *reallocation*). A
-//! contract that ran out while the hunter is still on the roster is called again with the
-//! hunter among the bidders: it keeps its place if it bids best. A call nobody answered is
-//! repeated every 30 s while slots are open.
+//! contract that ran out while the hunter is still on the roster is offered again to the
+//! hunter alone (a renewal call): it keeps its place if it bids, else it is lost. A call
+//! nobody answered is repeated every [`RECALL_S`] while slots are open.
 
-use super::{Commander, Phase, REPEAT_S};
+use super::{Commander, Phase};
 use crate::agents::tell;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -31,6 +31,8 @@ pub const HUNT_TASK: &str = "hunt";
 /// How long a hunter's contract runs without a report before its slot is called again,
 /// seconds (a hunter reports `done` when the target is captured).
 pub const CONTRACT_S: u64 = 1200;
+/// A slot whose call found nobody is called again after this long, seconds.
+pub const RECALL_S: f64 = 120.0;
 /// The timer tag of the contract net (the commander's and the troopers').
 pub const CNET: TimerTag = TimerTag(0x434e);
 
@@ -54,15 +56,15 @@ pub struct Tender {
     call: Option<u64>,
     /// When the last call went out.
     called_at: SimTime,
-    /// The hunter whose contract ran out, bidding again in the call out.
-    renewing: Option<EntityId>,
+    /// Renewal calls out (conversation → the hunter whose contract ran out).
+    renewals: BTreeMap<u64, EntityId>,
     /// The running contracts: hunter → conversation.
     contracts: BTreeMap<EntityId, u64>,
     /// Where the target was last reported, world (x, y).
     target_at: Option<[f64; 2]>,
     /// Calls for proposals made.
     pub calls: u64,
-    /// Slots awarded (renewals included).
+    /// Slots awarded (contracts renewed included).
     pub awards: u64,
     /// Slots called again because a hunter was lost.
     pub reallocations: u64,
@@ -77,7 +79,7 @@ impl Default for Tender {
             open: 0,
             call: None,
             called_at: SimTime::ZERO,
-            renewing: None,
+            renewals: BTreeMap::new(),
             contracts: BTreeMap::new(),
             target_at: None,
             calls: 0,
@@ -96,6 +98,10 @@ impl Tender {
     /// Pursuer slots still to fill.
     pub fn open(&self) -> u32 {
         self.open
+    }
+    /// Whether `id` holds a running hunt contract (as far as the truck knows).
+    pub fn holds(&self, id: EntityId) -> bool {
+        self.contracts.contains_key(&id)
     }
     /// Calls, awards and reallocations so far.
     pub fn counts(&self) -> (u64, u64, u64) {
@@ -135,8 +141,7 @@ impl Commander {
 
     /// Every trooper still up joins the hunt (the VIP is out): one more slot for each.
     pub(super) fn all_join(&mut self, cx: &mut Context<'_, Tactical>) {
-        let n = self.bidders().len() as u32;
-        self.tender.open = n.saturating_sub(u32::from(self.tender.call.is_some()));
+        self.tender.open = self.bidders().len() as u32;
         self.call_next(cx);
     }
 
@@ -147,11 +152,7 @@ impl Commander {
         if t.call.is_some() || t.open == 0 || self.hunt_done {
             return;
         }
-        let mut to = self.bidders();
-        if let Some(r) = t.renewing {
-            to.push(r);
-            to.sort();
-        }
+        let to = self.bidders();
         let Some(at) = t.target_at.filter(|_| !to.is_empty()) else {
             return;
         };
@@ -170,17 +171,21 @@ impl Commander {
         self.tender.calls += 1;
     }
 
-    /// Calls again, at its next look, a slot whose last call found nobody.
+    /// Calls again, at its next look, a slot whose last call found nobody (after
+    /// [`RECALL_S`]).
     pub(super) fn tender_tick(&mut self, cx: &mut Context<'_, Tactical>) {
         let since = cx.now().saturating_since(self.tender.called_at);
-        if self.tender.call.is_none() && since.as_secs_f64() >= REPEAT_S {
+        if self.tender.call.is_none() && since.as_secs_f64() >= RECALL_S {
             self.call_next(cx);
         }
     }
 
     /// The hunt lead's latest idea of the target's place (its `search` signal).
     pub(super) fn search_point(&mut self, arg: &str) {
-        let v: Vec<f64> = arg.split_whitespace().filter_map(|s| s.parse().ok()).collect();
+        let v: Vec<f64> = arg
+            .split_whitespace()
+            .filter_map(|s| s.parse().ok())
+            .collect();
         if let [x, y] = v[..] {
             self.tender.target_at = Some([x, y]);
         }
@@ -194,34 +199,31 @@ impl Commander {
                 winner,
                 ..
             } => {
-                self.tender.call = None;
                 self.tender.awards += 1;
                 self.tender.contracts.insert(winner, conversation);
-                match self.tender.renewing.take() {
-                    // The contract renewed: the hunter keeps its place.
-                    Some(r) if r == winner => {}
-                    Some(r) => {
-                        self.drop_hunter(r, cx);
-                        self.add_hunter(winner, cx);
-                    }
-                    None => self.add_hunter(winner, cx),
+                // A renewed contract: the hunter keeps its place.
+                if self.tender.renewals.remove(&conversation).is_none() {
+                    self.tender.call = None;
+                    self.add_hunter(winner, cx);
+                    self.tender.open = self.tender.open.saturating_sub(1);
+                    self.call_next(cx);
                 }
-                self.tender.open = self.tender.open.saturating_sub(1);
-                self.call_next(cx);
             }
             CnetEvent::Failed {
                 conversation,
                 reason,
                 ..
             } => {
+                if let Some(holder) = self.tender.renewals.remove(&conversation) {
+                    // The holder did not take its contract again: lost.
+                    if !self.hunt_done {
+                        self.lose_hunter(holder, cx);
+                    }
+                    return;
+                }
                 let winner = match reason {
                     CallFailure::NoProposals => {
                         self.tender.call = None;
-                        // The hunter whose contract ran out did not bid: lost.
-                        if let Some(r) = self.tender.renewing.take() {
-                            self.drop_hunter(r, cx);
-                            self.tender.reallocations += 1;
-                        }
                         return;
                     }
                     CallFailure::WinnerFailed { winner }
@@ -232,19 +234,26 @@ impl Commander {
                     return;
                 }
                 self.tender.contracts.remove(&winner);
-                let still_heard = matches!(reason, CallFailure::ReportTimedOut { .. })
-                    && self.hunters.contains(&winner)
-                    && self.tender.renewing.is_none()
-                    && self.tender.call.is_none();
-                self.tender.open += 1;
-                if still_heard {
-                    // The contract ran out: the slot is called again, the hunter bidding too.
-                    self.tender.renewing = Some(winner);
-                } else {
-                    self.drop_hunter(winner, cx);
-                    self.tender.reallocations += 1;
+                if self.hunt_done {
+                    return;
                 }
-                self.call_next(cx);
+                if matches!(reason, CallFailure::ReportTimedOut { .. }) {
+                    // The contract ran out: offered again to its holder alone.
+                    let Some(at) = self.tender.target_at else {
+                        return;
+                    };
+                    let cfp = Radio::Tender {
+                        task: HUNT_TASK.into(),
+                        at,
+                        cost: None,
+                    };
+                    let to = [winner];
+                    let c = (self.tender.cnet).announce(cx, Participants::Agents(&to), 0, cfp);
+                    self.tender.renewals.insert(c, winner);
+                    self.tender.calls += 1;
+                } else {
+                    self.lose_hunter(winner, cx);
+                }
             }
             CnetEvent::Done { winner, .. } => {
                 self.tender.contracts.remove(&winner);
@@ -265,9 +274,7 @@ impl Commander {
             return;
         }
         self.tender.contracts.remove(&id);
-        if self.tender.renewing == Some(id) {
-            self.tender.renewing = None;
-        } else if !self.hunt_done {
+        if !self.hunt_done {
             self.tender.open += 1;
         }
         self.tender.reallocations += 1;

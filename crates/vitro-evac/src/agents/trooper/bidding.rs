@@ -33,11 +33,11 @@ impl Trooper {
         match event {
             CnetEvent::CallForProposals { reply, cfp } => {
                 let at = match &cfp.body {
-                    Radio::Tender { task, at, cost: None }
-                        if task == HUNT_TASK && cfp.from == self.brief.truck =>
-                    {
-                        Some(*at)
-                    }
+                    Radio::Tender {
+                        task,
+                        at,
+                        cost: None,
+                    } if task == HUNT_TASK && cfp.from == self.brief.truck => Some(*at),
                     _ => None,
                 };
                 match at.and_then(|at| Some((at, self.hunt_cost(at, cx)?))) {

@@ -54,13 +54,6 @@ impl Trooper {
             return;
         }
         self.clock.begin(cx);
-        if self.brief.sensors.report_period_s > 0.0 {
-            let silent = SimDuration::from_secs_f64(LEAD_SILENT_TURNS * 2.0 * self.brief.turn_s);
-            for id in hunt.silent_pursuers(cx.me(), cx.now(), &self.known, silent) {
-                let msg = Radio::Signal(SILENT.into(), id.0.to_string());
-                tell(cx, self.brief.truck, msg);
-            }
-        }
         match hunt.turn(cx, &self.known) {
             HuntStep::Think(delay) => {
                 cx.set_timer(delay, DECIDED);
