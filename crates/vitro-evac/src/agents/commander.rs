@@ -26,7 +26,7 @@ use vitro_tactical::model::{Controller, Intention, Tactical};
 use vitro_tactical::radio::{Order, Radio};
 
 mod hunters;
-pub use hunters::{CNET, CONTRACT_S, HUNT_TASK, Tender, cnet_config};
+use super::tender::Tender;
 
 /// Timer key: the VIP is ready to leave.
 const READY: u64 = 10;

@@ -3,9 +3,9 @@
 //! and — when sent after the high-value target — hunt it as a team (the first pursuer runs
 //! the search, see [`hunt`](super::hunt)).
 
-use super::commander::{CNET, cnet_config};
 use super::hunt::{Hunt, TurnClock};
 use super::squad::{self, Part, Squad, note};
+use super::tender::{CNET, cnet_config};
 use super::{Reporter, SENSE, last_known, note_friends, tell};
 use crate::act::{ActError, Board, Capture, Walk};
 use crate::brief::{BLUE, Brief};

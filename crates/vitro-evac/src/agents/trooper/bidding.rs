@@ -1,5 +1,5 @@
 //! A trooper's side of the hunt's contract net (the truck calls, see the commander's
-//! [hunters module](crate::agents::commander)): it bids for a pursuer slot from what it
+//! [hunters module](crate::agents::tender)): it bids for a pursuer slot from what it
 //! knows of itself, and reports its contract done when the target is captured.
 //!
 //! **The bid** is a cost in metres: the straight-line distance from where the trooper is to
@@ -10,8 +10,8 @@
 //! answered refuses.
 
 use super::{Task, Trooper};
-use crate::agents::commander::HUNT_TASK;
 use crate::agents::last_known;
+use crate::agents::tender::HUNT_TASK;
 use crate::sense::Myself;
 use vitro::entity::EntityId;
 use vitro::protocol::CnetEvent;
