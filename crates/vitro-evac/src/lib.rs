@@ -257,6 +257,7 @@ impl Mission {
         m.messages_lost = lost;
         m.events = self.sim.events_fired();
         m.sim_time_s = self.sim.now().as_secs_f64();
+        self.patrol_attacks(&mut m);
         for mem in &self.members {
             let condition = self.sim.env().conditions.get(mem.id);
             if condition.is_some_and(|c| {
@@ -283,12 +284,57 @@ impl Mission {
             }
             let cover = aircraft.and_then(|a| a.cover.as_ref());
             if let Some(c) = cover {
-                m.plan_repairs += c.repairs;
-                m.plan_cuts += c.cuts;
+                let t = c.tally();
+                m.plan_repairs += t.repairs;
+                m.plan_cuts += t.cuts;
+                m.plan_fallbacks += t.fallbacks;
                 m.plan_messages += c.messages;
+                m.plan_failures += c.failures;
+                m.checkpoints_missed += c.missed;
             }
         }
         m
+    }
+}
+
+impl Mission {
+    /// The patrol attacks and the umpire's verdicts: each attacker's attack against the
+    /// Skeldars' step logs (plan unit order).
+    fn patrol_attacks(&self, m: &mut Metrics) {
+        let mut logs: Vec<(usize, &[agents::patrol::steps::StepLog])> = Vec::new();
+        let mut attacks = Vec::new();
+        for mem in &self.members {
+            let agent = self.sim.agent(mem.id).map(|a| a.as_any());
+            let aircraft = agent.and_then(|a| a.downcast_ref::<agents::air::Aircraft>());
+            if let Some(unit) = aircraft.and_then(|a| a.patrol.as_ref()) {
+                logs.push((unit.unit, &unit.log));
+            }
+            let red = agent.and_then(|a| a.downcast_ref::<agents::red::Adversary>());
+            if let Some(attack) = red.and_then(|r| r.attacker.as_ref()?.attack.as_ref()) {
+                attacks.push(attack);
+            }
+        }
+        logs.sort_by_key(|l| l.0);
+        let logs: Vec<&[agents::patrol::steps::StepLog]> = logs.into_iter().map(|l| l.1).collect();
+        let (mut all, mut on) = (0.0, 0.0);
+        for a in attacks {
+            let v = a.verdict(&logs);
+            m.patrol_attacks += 1;
+            m.patrol_attacks_stopped += u64::from(v.stopped);
+            m.patrol_attacks_misread += u64::from(v.misread);
+            all += a.capture;
+            if v.on_schedule {
+                m.patrol_attacks_on_schedule += 1;
+                m.patrol_stopped_on_schedule += u64::from(v.stopped);
+                on += a.capture;
+            }
+        }
+        if m.patrol_attacks > 0 {
+            m.patrol_capture_computed = Some(all / m.patrol_attacks as f64);
+        }
+        if m.patrol_attacks_on_schedule > 0 {
+            m.patrol_capture_on_schedule = Some(on / m.patrol_attacks_on_schedule as f64);
+        }
     }
 }
 

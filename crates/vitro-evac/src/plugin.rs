@@ -182,6 +182,9 @@ fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
         ("aircraft_down", Metric::count(m.aircraft_down)),
         ("plan_cuts", Metric::count(m.plan_cuts)),
         ("plan_messages", Metric::count(m.plan_messages)),
+        ("plan_failures", Metric::count(m.plan_failures)),
+        ("plan_fallbacks", Metric::count(m.plan_fallbacks)),
+        ("checkpoints_missed", Metric::count(m.checkpoints_missed)),
         ("shots", Metric::count(m.shots)),
         ("cnet_calls", Metric::count(m.cnet_calls)),
         ("cnet_awards", Metric::count(m.cnet_awards)),
@@ -192,6 +195,28 @@ fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
         ),
         ("patrol_cover_fraction", m.patrol_cover_fraction.into()),
         ("patrol_sight_fraction", m.patrol_sight_fraction.into()),
+        ("patrol_attacks", Metric::count(m.patrol_attacks)),
+        (
+            "patrol_attacks_stopped",
+            Metric::count(m.patrol_attacks_stopped),
+        ),
+        ("patrol_capture_computed", m.patrol_capture_computed.into()),
+        (
+            "patrol_attacks_on_schedule",
+            Metric::count(m.patrol_attacks_on_schedule),
+        ),
+        (
+            "patrol_stopped_on_schedule",
+            Metric::count(m.patrol_stopped_on_schedule),
+        ),
+        (
+            "patrol_capture_on_schedule",
+            m.patrol_capture_on_schedule.into(),
+        ),
+        (
+            "patrol_attacks_misread",
+            Metric::count(m.patrol_attacks_misread),
+        ),
         ("events", Metric::count(m.events)),
         ("sim_time_s", Metric::Float(m.sim_time_s)),
         ("trace_hash", Metric::Text(format!("{trace:016x}"))),
@@ -360,9 +385,11 @@ fn summary(mission: &Mission, m: &Metrics) -> Vec<(String, String)> {
         (
             "cover plan".to_owned(),
             format!(
-                "{} repairs, {} plan messages{}",
+                "{} failures, {} repairs, {} plan messages, {} checkpoints missed{}",
+                m.plan_failures,
                 m.plan_repairs,
                 m.plan_messages,
+                m.checkpoints_missed,
                 if m.plan_cuts > 0 {
                     format!(", {} cut by the depth bound", m.plan_cuts)
                 } else {
@@ -379,6 +406,18 @@ fn summary(mission: &Mission, m: &Metrics) -> Vec<(String, String)> {
                 "capture probability {p:.2} (computed); truck within cover radius {}, within sensor range {} of the escort",
                 pct(m.patrol_cover_fraction),
                 pct(m.patrol_sight_fraction)
+            ),
+        ));
+    }
+    if let Some(p) = m.patrol_capture_computed {
+        out.push((
+            "patrol attacks".to_owned(),
+            format!(
+                "{} started, {} stopped (computed capture probability {p:.2}); {} with the patrol on schedule, {} of them stopped",
+                m.patrol_attacks,
+                m.patrol_attacks_stopped,
+                m.patrol_attacks_on_schedule,
+                m.patrol_stopped_on_schedule
             ),
         ));
     }

@@ -54,6 +54,12 @@ pub struct Metrics {
     pub plan_cuts: u64,
     /// Cover-plan messages sent by the lead Vidar.
     pub plan_messages: u64,
+    /// Cover-plan failures the lead detected (failed or overdue looks, Vidars lost).
+    pub plan_failures: u64,
+    /// Back-on-track repairs of the cover plan that fell back to replanning.
+    pub plan_fallbacks: u64,
+    /// Checkpoints the truck passed with no look at them reported to the lead.
+    pub checkpoints_missed: u64,
     /// Shots fired by the adversaries.
     pub shots: u64,
     /// Calls for proposals the truck made for the hunt's pursuer slots (contract net).
@@ -73,6 +79,26 @@ pub struct Metrics {
     /// Share of the escort during which a Skeldar was within its sensors' range of the truck
     /// (horizontally, line of sight not checked).
     pub patrol_sight_fraction: Option<f64>,
+    /// Attacks the patrol game's attackers started (`patrol.attackers`, one each at most).
+    pub patrol_attacks: u64,
+    /// Of those, the ones a Skeldar stopped: it stood on the target's checkpoint at one of
+    /// the attack's steps (the game's definition; the umpire's verdict from the Skeldars'
+    /// step logs).
+    pub patrol_attacks_stopped: u64,
+    /// Mean over the attacks of the capture probability the solved game gives the state and
+    /// target each attacker chose (absent without attacks): the realised stop rate should
+    /// agree with it where the game's assumptions held.
+    pub patrol_capture_computed: Option<f64>,
+    /// Attacks through which every Skeldar played its policy from the state the attacker
+    /// saw (the truck on its timetable: no hold, skip or rejoin): where the guarantee holds.
+    pub patrol_attacks_on_schedule: u64,
+    /// Of those, the ones stopped.
+    pub patrol_stopped_on_schedule: u64,
+    /// Mean computed capture probability of the attacks on schedule (absent without any).
+    pub patrol_capture_on_schedule: Option<f64>,
+    /// Attacks started on a misread state: some Skeldar was not at the vertex and phase the
+    /// attacker believed (its phase from its own sightings of the truck).
+    pub patrol_attacks_misread: u64,
     /// Events fired.
     pub events: u64,
     /// Simulated time at the end, seconds.

@@ -119,3 +119,35 @@ impl Sensor<Arena> for Fallen {
         down && near && w.site.los.visible(eye, body)
     }
 }
+
+/// A camera's look at a ground point: whether the point (1 m above the ground) is within
+/// `range` metres of the observer and in its line of sight (terrain and buildings). An
+/// observer down, aboard or off the map sees nothing.
+#[derive(Copy, Clone, Debug)]
+pub struct GroundView {
+    /// The point looked at, world metres (its height is taken from the ground).
+    pub point: [f64; 3],
+    /// Reach of the camera, metres.
+    pub range: f64,
+}
+
+impl Sensor<Arena> for GroundView {
+    type Reading = bool;
+    fn read(&self, w: &Arena, me: EntityId, _: &mut Probe<'_>) -> bool {
+        let Some(mine) = w.body(me) else {
+            return false;
+        };
+        let [x, y, _] = self.point;
+        let Some(g) = w.site.ground([x, y]) else {
+            return false;
+        };
+        let target = [x, y, g + 1.0];
+        let d = mine.pos;
+        let dist = libm::sqrt(
+            (d[0] - x) * (d[0] - x)
+                + (d[1] - y) * (d[1] - y)
+                + (d[2] - target[2]) * (d[2] - target[2]),
+        );
+        dist <= self.range && w.visible(mine.pos, target)
+    }
+}

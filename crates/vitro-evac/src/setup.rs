@@ -2,12 +2,14 @@
 //! body, condition and agent, the channel and the start events.
 
 use super::act::{Dismount, Drive, Pilot, Walk};
-use super::agents::air::{AirRole, Aircraft, Ugv};
+use super::agents::air::{AirRole, Aircraft};
 use super::agents::commander::Commander;
 use super::agents::hunt::Board;
+use super::agents::patrol::attack::Attacker;
 use super::agents::patrol::{PatrolGame, PatrolUnit};
 use super::agents::red::{Adversary, Hvt};
 use super::agents::trooper::Trooper;
+use super::agents::ugv::Ugv;
 use super::brief::{Brief, FormationBrief};
 use crate::error::MissionError;
 use crate::external::{External, SharedDesk};
@@ -301,6 +303,8 @@ pub(crate) fn build(
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5ce1_a410);
     let mut aircraft_slot = 0;
+    // The first red troopers play the patrol game's attacker.
+    let mut attackers = file.patrol.attackers;
     // Drive-graph nodes holding a vehicle: two rigid bodies must not start in one place.
     let mut taken = BTreeSet::new();
     for m in &members {
@@ -316,7 +320,14 @@ pub(crate) fn build(
                 Box::new(Trooper::new(brief.clone(), Walk(m.level)))
             }
             Role::Vip => Box::new(Trooper::new(brief.clone(), Walk(m.level))),
-            Role::Trooper => Box::new(Adversary::new(brief.clone())),
+            Role::Trooper => match &patrol {
+                Some(game) if attackers > 0 => {
+                    attackers -= 1;
+                    let attacker = Attacker::new(game.clone(), skeldars.clone());
+                    Box::new(Adversary::attacking(brief.clone(), attacker))
+                }
+                _ => Box::new(Adversary::new(brief.clone())),
+            },
             Role::Hvt => Box::new(Hvt::new(brief.clone(), Walk(m.level))),
             Role::Car => {
                 let stops = (0..6)

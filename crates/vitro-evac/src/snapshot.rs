@@ -8,11 +8,12 @@
 //! such fields are marked `#[serde(with = "crate::snapshot::briefed")]` (or `patrol_game`)
 //! and are taken, on reading, from the run being restored.
 
-use crate::agents::air::{Aircraft, Ugv};
+use crate::agents::air::Aircraft;
 use crate::agents::commander::Commander;
 use crate::agents::patrol::PatrolGame;
 use crate::agents::red::{Adversary, Hvt};
 use crate::agents::trooper::Trooper;
+use crate::agents::ugv::Ugv;
 use crate::brief::Brief;
 use crate::referee::Referee;
 use crate::{Heard, Mission};

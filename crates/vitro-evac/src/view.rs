@@ -238,7 +238,13 @@ pub fn metric_map(m: &super::Metrics) -> BTreeMap<String, f64> {
     out.insert("cnet_calls".into(), m.cnet_calls as f64);
     out.insert("cnet_awards".into(), m.cnet_awards as f64);
     out.insert("cnet_reallocations".into(), m.cnet_reallocations as f64);
+    out.insert("patrol_attacks".into(), m.patrol_attacks as f64);
+    out.insert(
+        "patrol_attacks_stopped".into(),
+        m.patrol_attacks_stopped as f64,
+    );
     let patrol = [
+        ("patrol_capture_computed", m.patrol_capture_computed),
         ("patrol_capture_probability", m.patrol_capture_probability),
         ("patrol_cover_fraction", m.patrol_cover_fraction),
         ("patrol_sight_fraction", m.patrol_sight_fraction),

@@ -1,6 +1,7 @@
 //! The Skeldar's patrol in the evacuation mission: the patrol game is made and solved for
 //! the default scenario, the Skeldar moves only along the game's edges, one step at a time,
-//! and its patrol is reproducible and changes with the seed.
+//! and its patrol is reproducible and changes with the seed; the game's attacker strikes once
+//! and the umpire judges it.
 
 use vitro::time::{SimDuration, SimTime};
 use vitro_evac::Mission;
@@ -129,4 +130,38 @@ fn two_skeldars_fly_one_plan_each() {
     assert!(us.iter().all(|u| u.at.is_some() && u.phase > 5), "{us:?}");
     let p = m.metrics().patrol_capture_probability.expect("reported");
     assert!(p >= us[0].game.trip_capture_probability - 1e-12);
+}
+
+#[test]
+fn the_games_attacker_strikes_once_and_the_umpire_judges_it() {
+    let mut m = Mission::at_fidelity(SCENARIO, Some(3), Preset::Discrete).expect("builds");
+    m.end = SimTime::from_secs(900);
+    m.run();
+    let x = m.metrics();
+    // One attacker (patrol.attackers = 1), who sees the whole town: one attack.
+    assert_eq!(x.patrol_attacks, 1, "{x:?}");
+    assert!(x.patrol_attacks_stopped <= x.patrol_attacks);
+    assert!(x.patrol_attacks_on_schedule <= x.patrol_attacks);
+    assert!(x.patrol_stopped_on_schedule <= x.patrol_attacks_stopped);
+    assert!(x.patrol_stopped_on_schedule <= x.patrol_attacks_on_schedule);
+    assert!(x.patrol_attacks_misread + x.patrol_attacks_on_schedule <= x.patrol_attacks);
+    let p = x
+        .patrol_capture_computed
+        .expect("an attack, a computed probability");
+    // No attack beats the game's least capture probability over the trip.
+    let least = x.patrol_capture_probability.expect("a patrol game");
+    assert!(
+        (least - 1e-9..=1.0).contains(&p),
+        "computed {p}, least {least}"
+    );
+    // Without attackers: no attack, no computed probability.
+    let text = std::fs::read_to_string(SCENARIO).expect("the default scenario");
+    let none = text.replacen("attackers = 1 ", "attackers = 0 ", 1);
+    assert_ne!(none, text);
+    let v = ScenarioFile::validate_text(SCENARIO, &none).expect("valid");
+    let mut m = Mission::build(v, Some(3)).expect("builds");
+    m.end = SimTime::from_secs(300);
+    m.run();
+    let x = m.metrics();
+    assert_eq!((x.patrol_attacks, x.patrol_capture_computed), (0, None));
 }

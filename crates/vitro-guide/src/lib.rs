@@ -25,6 +25,10 @@ pub mod radio {}
 #[doc = include_str!("../../../docs/guide/src/briefing.md")]
 pub mod briefing {}
 
+/// The paper's algorithms in the mission (`docs/guide/src/algorithms.md`).
+#[doc = include_str!("../../../docs/guide/src/algorithms.md")]
+pub mod algorithms {}
+
 /// Tutorial part 1: a controller on a synthetic graph (`docs/guide/src/tutorial-1-graph.md`).
 #[doc = include_str!("../../../docs/guide/src/tutorial-1-graph.md")]
 pub mod tutorial_1_graph {}

@@ -145,7 +145,7 @@ fn evaluate(
     if interval_bound >= best_loss.min(point_loss) - tolerance {
         return Some(evaluated);
     }
-    // If the LP solver fails on this box (microlp can hit a singular basis), keep the interval
+    // If the LP solver fails on this box (microlp can hit a singular basis; Clarabel may report no optimum), keep the interval
     // bound and split the widest entry: still valid, only slower.
     let Ok(relaxation) = relax(
         chain,

@@ -1,4 +1,5 @@
-//! Local optimisation of a Markov policy by successive linear programming (good_lp + microlp).
+//! Local optimisation of a Markov policy by successive linear programming (good_lp + Clarabel
+//! or microlp).
 //!
 //! The patroller's problem on a fixed support is
 //! `minimise z  s.t.  z ≥ value_t · (1 − P(t, h; α))` for every attack `(t, h)`, with each row
@@ -12,7 +13,7 @@
 //! The same method optimises a team of independent patrollers ([`improve_team`]): the escape
 //! probability from a joint start is the product of the individual ones, linearised too.
 
-use good_lp::{Expression, ProblemVariables, Solution, SolverModel, microlp, variable};
+use good_lp::{Expression, ProblemVariables, variable};
 
 use super::PatrolError;
 use super::chain::{Chain, Gradients};
@@ -28,6 +29,8 @@ pub struct LpStats {
     pub max_constraints: usize,
     /// Solves that failed numerically (the caller fell back to a safe alternative).
     pub failures: u64,
+    /// The LP solver used (set from [`SolveOptions::lp`](super::SolveOptions::lp)).
+    pub backend: super::LpBackend,
 }
 
 /// The uniform policy on a chain: every row spread evenly over its entries.
@@ -270,7 +273,7 @@ fn linearised_step(
         .collect();
     let z = vars.add(variable().min(0.0));
     let variables: usize = x.iter().map(Vec::len).sum::<usize>() + escape.len() * escape[0].len();
-    let mut model = vars.minimise(z).using(microlp);
+    let mut model = Vec::new();
     let mut constraints = 0;
     let total_rows: usize = chains
         .iter()
@@ -289,7 +292,7 @@ fn linearised_step(
             for e in chain.row(r) {
                 row.add_mul(1.0, x[i][e]);
             }
-            model = model.with(row.eq(1.0));
+            model.push(row.eq(1.0));
             constraints += 1;
         }
         for t in 0..chain.targets.len() {
@@ -322,7 +325,7 @@ fn linearised_step(
                     lhs.add_mul(g, x[i][e]);
                     rhs += g * alpha[e];
                 }
-                model = model.with(lhs.geq(rhs));
+                model.push(lhs.geq(rhs));
                 constraints += 1;
             }
         }
@@ -344,14 +347,14 @@ fn linearised_step(
                 lhs.add_mul(-target.value * others, y[i][k]);
                 rhs -= others * levels[i];
             }
-            model = model.with(lhs.geq(target.value * rhs));
+            model.push(lhs.geq(target.value * rhs));
             constraints += 1;
         }
     }
     stats.solves += 1;
     stats.max_variables = stats.max_variables.max(variables + 1);
     stats.max_constraints = stats.max_constraints.max(constraints);
-    let solution = model.solve().map_err(|e| PatrolError::Lp(e.to_string()))?;
+    let solution = super::lp::minimise(vars, z, model, stats.backend)?;
     let mut next = Vec::with_capacity(chains.len());
     for (chain, xs) in chains.iter().zip(&x) {
         let mut alpha: Vec<f64> = xs

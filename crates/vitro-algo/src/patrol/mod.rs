@@ -23,12 +23,12 @@
 //! optimum can be irrational. [`solve`] therefore works in two stages:
 //!
 //! 1. **Local (mathematical programming).** On each candidate support, successive linear
-//!    programming (good_lp + microlp): linearise every `P(t, h)` at the current policy, solve
+//!    programming (good_lp): linearise every `P(t, h)` at the current policy, solve
 //!    the LP `min z s.t. z ≥ value_t · (1 − linearised P(t, h))`, rows stochastic, within a
 //!    trust region; repeat. This finds a good policy fast but only a *local* optimum.
 //! 2. **Exact (certified).** Branch and bound over boxes of transition probabilities on every
 //!    connected support (module `exact`). Lower bounds come from the monotonicity of `P` in
-//!    each entry: an interval recursion, and an LP relaxation (good_lp + microlp again) whose
+//!    each entry: an interval recursion, and an LP relaxation (good_lp again) whose
 //!    error shrinks with the square of the box width. When the search finishes, the returned
 //!    policy is within [`SolveOptions::tolerance`] of the best value over **all** stationary
 //!    Markov policies on **all** supports: [`Solution::exact`] is then true and
@@ -36,6 +36,9 @@
 //!    vertices and a few dozen transition entries, certified in milliseconds to seconds);
 //!    on larger ones the box budget ([`SolveOptions::max_nodes`]) runs out, `exact` is false,
 //!    and the solution is the best policy found with a certified but looser `lower_bound`.
+//!
+//! The LP solver is [`SolveOptions::lp`]: microlp (default) or Clarabel ([`LpBackend`];
+//! example `lp_backends` compares them).
 //!
 //! The value [`solve`] reports is always the exact value of the returned policy (computed by
 //! the recursion above, checked by [`monte_carlo`]); only its optimality is conditional on
@@ -144,6 +147,7 @@ mod error;
 mod exact;
 mod instance;
 mod local;
+mod lp;
 mod montecarlo;
 mod plan;
 mod policy;
@@ -157,6 +161,7 @@ mod tube;
 pub use error::PatrolError;
 pub use instance::{Instance, MAX_PERIOD, Patroller, Target, TargetPosition};
 pub use local::LpStats;
+pub use lp::LpBackend;
 pub use montecarlo::{AttackEstimate, MonteCarloOptions, MonteCarloReport, monte_carlo};
 pub use plan::{PatrolPlan, PlanParams};
 pub use policy::{Attack, Policy, Rows};
@@ -245,6 +250,8 @@ pub fn solve_with(instance: &Instance, options: &SolveOptions) -> Result<Solutio
         supports: chains.len(),
         ..SolveStats::default()
     };
+    stats.lp.backend = options.lp;
+    stats.bnb_lp.backend = options.lp;
     // Stage 1: local optimisation on the most promising supports.
     let mut best: Option<(usize, Vec<f64>, f64)> = None;
     for &s in order.iter().take(options.local_searches.max(1)) {

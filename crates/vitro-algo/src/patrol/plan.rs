@@ -22,6 +22,8 @@ pub struct PlanParams {
     /// With [`PlanParams::phase_locked`] and one unit, also try the certified full-phase
     /// policy (see [`SolveOptions::full_phase_candidate`]). Default true.
     pub full_phase_candidate: bool,
+    /// The LP solver. Default [`LpBackend::default`](super::LpBackend::default).
+    pub lp: super::LpBackend,
 }
 
 impl Default for PlanParams {
@@ -32,6 +34,7 @@ impl Default for PlanParams {
             restarts: 2,
             seed: 0,
             full_phase_candidate: true,
+            lp: super::LpBackend::default(),
         }
     }
 }
@@ -114,6 +117,7 @@ impl PatrolPlan {
             restarts: params.restarts,
             seed: params.seed,
             full_phase_candidate: params.full_phase_candidate,
+            lp: params.lp,
             ..SolveOptions::default()
         };
         let solution = solve_with(&instance, &options)?;

@@ -13,7 +13,7 @@
 //! interval bound of [`super::chain::Chain::capture_upper`] is first order. It also couples all
 //! attacks through one policy, which per-attack interval bounds cannot.
 
-use good_lp::{Expression, ProblemVariables, Solution, SolverModel, microlp, variable};
+use good_lp::{Expression, ProblemVariables, variable};
 
 use super::PatrolError;
 use super::chain::{Chain, Gradients};
@@ -59,7 +59,7 @@ pub(crate) fn relax(
         .map(|e| vars.add(variable().min(0.0).max((x[e] - lo[e]).max(0.0))))
         .collect();
     let z = vars.add(variable().min(0.0));
-    let mut model = vars.minimise(z).using(microlp);
+    let mut model = Vec::new();
     let mut constraints = 0;
     for i in 0..chain.rows() {
         let mut row = Expression::with_capacity(2 * chain.row(i).len());
@@ -67,7 +67,7 @@ pub(crate) fn relax(
             row.add_mul(1.0, up[e]);
             row.add_mul(-1.0, down[e]);
         }
-        model = model.with(row.eq(0.0));
+        model.push(row.eq(0.0));
         constraints += 1;
     }
     // Attacks on targets outside the support are never caught: a constant floor.
@@ -89,14 +89,14 @@ pub(crate) fn relax(
                 }
             }
             let rhs = target.value * (1.0 - capture[t * n + h]);
-            model = model.with(lhs.geq(rhs));
+            model.push(lhs.geq(rhs));
             constraints += 1;
         }
     }
     stats.solves += 1;
     stats.max_variables = stats.max_variables.max(2 * m + 1);
     stats.max_constraints = stats.max_constraints.max(constraints);
-    let solution = model.solve().map_err(|e| PatrolError::Lp(e.to_string()))?;
+    let solution = super::lp::minimise(vars, z, model, stats.backend)?;
     let z_value = solution.value(z);
     let (u, d): (Vec<f64>, Vec<f64>) = (0..m)
         .map(|e| (solution.value(up[e]), solution.value(down[e])))

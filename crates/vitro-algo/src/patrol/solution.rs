@@ -2,6 +2,7 @@
 //! with its statistics, and why a game could not be solved.
 
 use super::local::LpStats;
+use super::lp::LpBackend;
 use super::policy::Policy;
 use crate::graph::NodeId;
 use serde::Serialize;
@@ -41,6 +42,8 @@ pub struct SolveOptions {
     /// Default true; false skips that stage, which is the slower one on instances where no
     /// full-phase policy can guard the convoys anyway (long timetables on a route).
     pub full_phase_candidate: bool,
+    /// The LP solver of every linear program solved. Default [`LpBackend::default`].
+    pub lp: LpBackend,
 }
 
 impl Default for SolveOptions {
@@ -56,6 +59,7 @@ impl Default for SolveOptions {
             seed: 0,
             phase_locked: false,
             full_phase_candidate: true,
+            lp: LpBackend::default(),
         }
     }
 }

@@ -356,6 +356,8 @@ pub(crate) fn solve(
         supports: candidates.len(),
         ..SolveStats::default()
     };
+    stats.lp.backend = options.lp;
+    stats.bnb_lp.backend = options.lp;
     // The most promising first: candidates that surely miss no attack (stable order).
     let mut candidates: Vec<(f64, Candidate)> = candidates
         .into_iter()

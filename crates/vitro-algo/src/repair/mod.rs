@@ -73,6 +73,7 @@
 mod agent;
 mod planner;
 mod record;
+mod repairer;
 mod run;
 mod scenario;
 mod world;
@@ -86,6 +87,7 @@ use vitro::time::{SimDuration, SimTime};
 
 use crate::planning::PlanError;
 
+pub use repairer::{Cause, PlanStep, RepairSettings, RepairTally, Repairer, Revision, StepRef};
 pub use run::{
     Applied, AppliedKind, MessageTally, RepairKind, RepairRecord, RunFailure, RunReport, Trigger,
     run,
@@ -98,7 +100,9 @@ pub const TURN_PROTOCOL: Protocol = Protocol::Custom(1);
 pub const PLAN_PROTOCOL: Protocol = Protocol::Custom(2);
 
 /// How the team reacts to a failure (see the [module](self) documentation).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize,
+)]
 pub enum Strategy {
     /// A new plan from the current state to the goal at every failure.
     Replan,
@@ -228,6 +232,9 @@ pub enum RepairError {
     /// Two agents with one name.
     #[error("two agents are named {0}")]
     DuplicateAgent(String),
+    /// A fact the ground task does not have (a repairer's belief or goal).
+    #[error("no fact {0} in the task")]
+    UnknownFact(String),
     /// An event could not be scheduled.
     #[error(transparent)]
     Schedule(#[from] vitro::event::ScheduleError),

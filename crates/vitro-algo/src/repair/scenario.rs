@@ -39,6 +39,13 @@ impl Ownership {
         self.by_action.insert(action.to_lowercase(), index);
         self
     }
+    /// The schemas that name another owning parameter, with it.
+    pub fn overrides(&self) -> Vec<(String, usize)> {
+        self.by_action
+            .iter()
+            .map(|(a, &i)| (a.clone(), i))
+            .collect()
+    }
     /// The owning parameter of schema `action`.
     pub fn parameter(&self, action: &str) -> usize {
         self.by_action.get(action).copied().unwrap_or(0)
@@ -102,6 +109,10 @@ impl Team {
 pub struct Scenario {
     domain: Domain,
     problem: Problem,
+    /// The PDDL texts and the ownership it was made from (to rebuild a saved repairer).
+    pub(crate) domain_text: String,
+    pub(crate) problem_text: String,
+    pub(crate) ownership: Vec<(String, usize)>,
     pub(crate) team: Arc<Team>,
 }
 
@@ -121,6 +132,9 @@ impl Scenario {
         let task = ground(&d, &p).map_err(PlanError::from)?;
         let team = Self::team(&p, task, ownership)?;
         Ok(Scenario {
+            domain_text: domain.text.to_string(),
+            problem_text: problem.text.to_string(),
+            ownership: ownership.overrides(),
             domain: d,
             problem: p,
             team: Arc::new(team),

@@ -6,16 +6,19 @@
 //!   ([`patrol`](super::patrol)), phase-locked to the truck's progress;
 //! - [`AirRole::Cover`] (Vidar): hovers over the checkpoints the cover plan gives it ahead
 //!   of the team;
-//! - [`AirRole::Scout`] (Procerus): flies the route ahead of the truck;
-//! - [`Ugv`]: drives to the junctions ahead of the truck.
+//! - [`AirRole::Scout`] (Procerus): flies the route ahead of the truck.
+//!
+//! (The UGV ahead of the truck is [`Ugv`](super::ugv::Ugv).)
 
-use super::cover::{CoverPlanner, Repair, checkpoints, nearest};
+use super::cover::watch::{Heard, Watcher, plan_message, read_plan};
+use super::cover::{CoverPlanner, CoverStep, checkpoints, nearest};
 use super::overwatch::Overwatch;
 use super::patrol::PatrolUnit;
 use super::{Reporter, SENSE, last_known, note_friends, tell};
-use crate::act::{Drive, Pilot};
+use crate::act::Pilot;
 use crate::brief::{BLUE, Brief};
-use crate::sense::{Myself, Vision};
+use crate::sense::{GroundView, Myself, Vision};
+use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::entity::EntityId;
@@ -38,6 +41,10 @@ const PLAN_S: f64 = 20.0;
 const OVERWATCH: u64 = 41;
 /// Period of that check, seconds.
 const OVERWATCH_S: f64 = 20.0;
+/// Timer key of a Vidar's recall.
+const RECALL: u64 = 42;
+/// Turn period of the Vidars (the lead's repairs, each one's next step), seconds.
+const COVER_S: f64 = 5.0;
 
 /// What an aircraft does.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -87,10 +94,8 @@ pub struct Aircraft {
     pub cover: Option<CoverPlanner>,
     /// Its unit of the patrol game (Skeldars).
     pub patrol: Option<PatrolUnit>,
-    /// Cover checkpoints to fly to, in order (Vidars).
-    queue: Vec<usize>,
-    /// The checkpoints of the last waypoint command.
-    flying: Vec<usize>,
+    /// Its cover steps (Vidars).
+    watcher: Option<Watcher>,
     points: Vec<[f64; 3]>,
     /// The hunt's search point, from the hunt lead.
     overwatch: Overwatch,
@@ -115,8 +120,7 @@ impl Aircraft {
             path: Vec::new(),
             cover: None,
             patrol: None,
-            queue: Vec::new(),
-            flying: Vec::new(),
+            watcher: None,
             points: Vec::new(),
             overwatch: Overwatch::default(),
             hunting: false,
@@ -145,6 +149,7 @@ impl Aircraft {
         let lead = slot == 0;
         let mut a = Aircraft::new(brief.clone(), pilot, AirRole::Cover { slot }, height);
         a.points = checkpoints(&brief);
+        a.watcher = team.first().map(|&l| Watcher::new(l));
         if lead {
             a.cover = Some(CoverPlanner::new(&brief, team));
         }
@@ -166,7 +171,8 @@ impl Aircraft {
         let Some(unit) = self.patrol.as_mut() else {
             return;
         };
-        let Some(next) = unit.step(truck, cx.rng("patrol")) else {
+        let now = cx.now().as_secs_f64();
+        let Some(next) = unit.step(truck, now, cx.rng("patrol")) else {
             return;
         };
         let Some(p) = unit.game.point(next) else {
@@ -200,44 +206,61 @@ impl Aircraft {
         }
     }
 
-    /// The lead's turn: makes or repairs the cover plan and hands out the steps.
-    fn lead_cover(&mut self, cx: &mut Context<'_, Tactical>) {
+    /// A Vidar's turn: the lead makes or repairs the cover plan; each starts its next step.
+    fn cover_turn(&mut self, cx: &mut Context<'_, Tactical>) {
         let Some(truck) = self.truck(cx) else {
             return;
         };
+        let k = nearest(&self.points, truck);
+        if self.cover.is_some() {
+            self.lead_cover(k, cx);
+        }
+        self.watch_next(k, cx);
+    }
+
+    /// The lead's turn: makes or repairs the cover plan and hands out the steps.
+    fn lead_cover(&mut self, k: usize, cx: &mut Context<'_, Tactical>) {
         let me = cx.me();
         let now = cx.now();
         let own = cx.sense(&OwnPose).map(|p| p.pos);
         let Some(planner) = self.cover.as_mut() else {
             return;
         };
-        let k = nearest(&planner.points, truck);
+        // Each Vidar where its fresh report puts it (itself: its own GPS); one whose
+        // reports went stale is lost.
         let team = planner.team.clone();
-        // Each Vidar where its last report puts it (itself: its own GPS).
-        let at: Vec<usize> = team
-            .iter()
-            .map(|&id| {
-                let pos = if id == me {
-                    own
-                } else {
-                    last_known(&self.known, id, now)
-                };
-                pos.map_or(0, |p| nearest(&planner.points, p))
-            })
-            .collect();
-        let Some(Repair { steps, replace, .. }) = planner.update(k, &at) else {
-            return;
-        };
-        for (id, mine) in team.into_iter().zip(steps) {
-            if mine.is_empty() && !replace {
-                continue;
-            }
-            if id == me {
-                self.take_steps(mine, replace, cx);
+        let mut at = Vec::with_capacity(team.len());
+        for (i, &id) in team.iter().enumerate() {
+            let pos = if id == me {
+                own
             } else {
-                let mut body = vec![if replace { "replace" } else { "append" }.to_string()];
-                body.extend(mine.iter().map(|c| format!("c{c}")));
-                tell(cx, id, Radio::Plan(body));
+                self.known.estimate(id, now)
+            };
+            if pos.is_none() && id != me && self.known.last(id).is_some() {
+                planner.lost(i);
+            }
+            at.push(pos.map(|p| nearest(&planner.points, p)));
+        }
+        let now_s = now.as_secs_f64();
+        let orders = if planner.started() {
+            planner.turn(k, &at, now_s)
+        } else {
+            // Before their first reports the others are taken to be where the lead is
+            // (they take off together).
+            let here = at.first().copied().flatten().unwrap_or(k);
+            let start: Vec<usize> = at.iter().map(|a| a.unwrap_or(here)).collect();
+            planner.start(k, &start, now_s)
+        };
+        // No plan (a route too short to cover): the Vidars stay where they are.
+        let Ok(orders) = orders else { return };
+        for (i, steps) in orders {
+            let Some(&id) = team.get(i) else { continue };
+            if id == me {
+                if let Some(w) = self.watcher.as_mut() {
+                    w.take(steps);
+                }
+            } else {
+                tell(cx, id, plan_message(&steps));
                 if let Some(c) = self.cover.as_mut() {
                     c.messages += 1;
                 }
@@ -245,31 +268,73 @@ impl Aircraft {
         }
     }
 
-    /// Takes new cover steps and flies them.
-    fn take_steps(&mut self, steps: Vec<usize>, replace: bool, cx: &mut Context<'_, Tactical>) {
-        if replace {
-            self.queue = steps;
-        } else {
-            self.queue.extend(steps);
-        }
-        let points: Vec<[f64; 3]> = self
-            .queue
-            .iter()
-            .filter_map(|&c| self.points.get(c).copied())
-            .map(|p| self.above(p))
-            .collect();
-        if points.is_empty() {
+    /// Starts the next cover step if it is due, the truck at checkpoint `k`.
+    fn watch_next(&mut self, k: usize, cx: &mut Context<'_, Tactical>) {
+        let Some(s) = self.watcher.as_mut().and_then(|w| w.next(k)) else {
             return;
+        };
+        if let Some(&p) = self.points.get(s.spot) {
+            let p = self.above(p);
+            self.fly(vec![p], cx);
         }
-        self.flying = self.queue.clone();
-        self.fly(points, cx);
     }
 
-    /// Waypoint `i` of the last command reached: drops the steps flown.
-    fn reached(&mut self, i: usize) {
-        let Some(&c) = self.flying.get(i) else { return };
-        if let Some(j) = self.queue.iter().position(|&q| q == c) {
-            self.queue.drain(..=j);
+    /// The cover step under way reached its checkpoint: the camera looks at it, and the
+    /// look is reported to the lead.
+    fn look(&mut self, cx: &mut Context<'_, Tactical>) {
+        let Some(w) = self.watcher.as_mut() else {
+            return;
+        };
+        let Some(step) = w.arrived() else { return };
+        let lead = w.lead;
+        let Some(&point) = self.points.get(step.spot) else {
+            return;
+        };
+        let range = self.brief.sensors.air.vision().range;
+        let seen = cx.sense(&GroundView { point, range });
+        let glitch = cx.rng("cover").random::<f64>() < self.brief.repair.failure_rate;
+        self.report(lead, Heard::Look(step, seen && !glitch), cx);
+        if let Some(truck) = self.truck(cx) {
+            let k = nearest(&self.points, truck);
+            self.watch_next(k, cx);
+        }
+    }
+
+    /// Tells the lead `what` (the lead itself takes it at once).
+    fn report(&mut self, lead: EntityId, what: Heard, cx: &mut Context<'_, Tactical>) {
+        if lead != cx.me() {
+            tell(cx, lead, what.message());
+            return;
+        }
+        let now_s = cx.now().as_secs_f64();
+        if let (Some(c), Heard::Look(step, ok)) = (self.cover.as_mut(), what) {
+            c.report(0, step, ok, now_s);
+        }
+    }
+
+    /// The lead hears a Vidar's report.
+    fn hear_cover(&mut self, from: EntityId, body: &Radio, now_s: f64) {
+        let Some(c) = self.cover.as_mut() else { return };
+        let (Some(heard), Some(i)) = (Heard::read(body), c.index_of(from)) else {
+            return;
+        };
+        match heard {
+            Heard::Look(step, ok) => c.report(i, step, ok, now_s),
+            Heard::Recalled => c.lost(i),
+        }
+    }
+
+    /// Recalled by its base: it tells the lead and flies back to the route's start.
+    fn recall(&mut self, cx: &mut Context<'_, Tactical>) {
+        let Some(w) = self.watcher.as_mut() else {
+            return;
+        };
+        w.recalled = true;
+        let lead = w.lead;
+        self.report(lead, Heard::Recalled, cx);
+        if let Some(&p) = self.points.first() {
+            let p = self.above(p);
+            self.fly(vec![p], cx);
         }
     }
 
@@ -332,7 +397,7 @@ impl Aircraft {
             return;
         }
         match self.role {
-            AirRole::Cover { .. } => return self.lead_cover(cx),
+            AirRole::Cover { .. } => return self.cover_turn(cx),
             AirRole::Patrol if self.patrol.is_some() => return self.patrol_step(cx),
             _ => {}
         }
@@ -363,7 +428,18 @@ impl Controller for Aircraft {
                 // The first plan once the first position reports are in.
                 cx.set_timer(SimDuration::from_secs(1), PLAN);
                 cx.set_timer(SimDuration::from_secs_f64(OVERWATCH_S), OVERWATCH);
+                // A Vidar other than the lead may be recalled, at a time drawn from its
+                // own stream (the scenario's `repair.failure_rate` per mission).
+                if matches!(self.role, AirRole::Cover { slot } if slot > 0) {
+                    let rng = cx.rng("recall");
+                    let (draw, when) = (rng.random::<f64>(), rng.random::<f64>());
+                    if draw < self.brief.repair.failure_rate {
+                        let at = 60.0 + 540.0 * when;
+                        cx.set_timer(SimDuration::from_secs_f64(at), RECALL);
+                    }
+                }
             }
+            Input::Timer(RECALL) if !self.hunting => self.recall(cx),
             Input::Timer(Beacon::TIMER) => self.beacon.tick(cx),
             Input::Timer(OVERWATCH) => {
                 self.check_hunt(cx);
@@ -373,35 +449,34 @@ impl Controller for Aircraft {
             }
             Input::Timer(PLAN) => {
                 self.plan(cx);
-                let again = !matches!(self.role, AirRole::Cover { .. }) || self.cover.is_some();
-                let period = match &self.patrol {
-                    Some(unit) => unit.game.step_s,
-                    None => PLAN_S,
+                let period = match (&self.patrol, self.role) {
+                    (Some(unit), _) => unit.game.step_s,
+                    (None, AirRole::Cover { .. }) => COVER_S,
+                    (None, _) => PLAN_S,
                 };
-                if again {
-                    cx.set_timer(SimDuration::from_secs_f64(period), PLAN);
-                }
+                cx.set_timer(SimDuration::from_secs_f64(period), PLAN);
             }
             // Round the orbit again from its last point.
             Input::Event(Ev::Waypoint(i)) if self.hunting && *i as usize + 1 >= self.path.len() => {
                 self.fly_orbit(cx);
             }
             Input::Event(Ev::Waypoint(_)) if self.hunting => {}
-            Input::Event(Ev::Waypoint(i)) => self.reached(*i as usize),
+            Input::Event(Ev::Waypoint(_)) => self.look(cx),
             Input::Message(env) => {
                 self.known.hear(env);
                 if self.overwatch.hear(&env.body) && self.hunting {
                     self.fly_orbit(cx);
                 }
+                self.hear_cover(env.from, &env.body, cx.now().as_secs_f64());
                 if let Radio::Plan(body) = &env.body
                     && !self.hunting
-                    && let Some((how, rest)) = body.split_first()
+                    && let Some(w) = self.watcher.as_mut()
                 {
-                    let steps = rest
-                        .iter()
-                        .filter_map(|c| c.strip_prefix('c')?.parse().ok())
-                        .collect();
-                    self.take_steps(steps, how == "replace", cx);
+                    w.take(read_plan(body));
+                    if let Some(truck) = self.truck(cx) {
+                        let k = nearest(&self.points, truck);
+                        self.watch_next(k, cx);
+                    }
                 }
             }
             Input::Timer(SENSE) => {
@@ -438,7 +513,11 @@ impl Controller for Aircraft {
         let (plan, original_plan) = match &self.cover {
             Some(c) => (c.current.clone(), c.original.clone()),
             None => (
-                self.queue.iter().map(|c| format!("fly to c{c}")).collect(),
+                self.watcher
+                    .iter()
+                    .flat_map(Watcher::steps)
+                    .map(|s: CoverStep| format!("watch c{}", s.spot))
+                    .collect(),
                 Vec::new(),
             ),
         };
@@ -447,93 +526,6 @@ impl Controller for Aircraft {
             path: self.path.clone(),
             plan,
             original_plan,
-            ..Intention::default()
-        })
-    }
-}
-
-/// The unmanned ground vehicle: drives to the route junctions ahead of the truck.
-#[derive(Debug, Serialize, Deserialize)]
-pub struct Ugv {
-    #[serde(with = "crate::snapshot::briefed")]
-    brief: Arc<Brief>,
-    drive: Drive,
-    reporter: Reporter,
-    goal: Option<NodeId>,
-    known: Whereabouts,
-    beacon: Beacon,
-}
-
-impl Ugv {
-    /// The UGV of `brief`, driving at `drive`'s level.
-    pub fn new(brief: Arc<Brief>, drive: Drive) -> Self {
-        Ugv {
-            known: super::whereabouts(&brief),
-            beacon: super::beacon(&brief),
-            brief,
-            drive,
-            reporter: Reporter::default(),
-            goal: None,
-        }
-    }
-    fn next(&mut self, cx: &mut Context<'_, Tactical>) {
-        let Some(truck) = last_known(&self.known, self.brief.truck, cx.now()) else {
-            // No report of the truck yet: it waits and asks again.
-            cx.set_timer(SimDuration::from_secs(10), PLAN);
-            return;
-        };
-        let r = &self.brief.route;
-        let k = (progress(&self.brief, truck) + 6).min(r.len().saturating_sub(1));
-        let Some(&goal) = r.get(k) else { return };
-        if self.goal != Some(goal) && cx.act(&self.drive, goal).is_ok() {
-            self.goal = Some(goal);
-        } else {
-            self.goal = None;
-            cx.set_timer(SimDuration::from_secs(10), PLAN);
-        }
-    }
-}
-
-impl Controller for Ugv {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
-        match input {
-            Input::Event(Ev::Start) => {
-                cx.join(BLUE);
-                self.beacon.start(cx);
-                cx.set_timer(SimDuration::from_secs(1), SENSE);
-                // The first goal once the first position reports are in.
-                cx.set_timer(SimDuration::from_secs(1), PLAN);
-            }
-            Input::Timer(Beacon::TIMER) => self.beacon.tick(cx),
-            Input::Message(env) => {
-                self.known.hear(env);
-            }
-            Input::Event(Ev::Arrived(_)) | Input::Timer(PLAN) => self.next(cx),
-            // Stuck on the way: a new goal later, planned from where it stands.
-            Input::Event(Ev::Stalled(_)) => {
-                self.goal = None;
-                cx.set_timer(SimDuration::from_secs(10), PLAN);
-            }
-            Input::Timer(SENSE) => {
-                let seen = cx.sense(&Vision(self.brief.sensors.ground.vision()));
-                note_friends(&mut self.known, &seen, cx.now());
-                self.reporter.report(&seen, cx);
-                cx.set_timer(
-                    SimDuration::from_secs_f64(self.brief.sensors.period_s),
-                    SENSE,
-                );
-            }
-            _ => {}
-        }
-    }
-    fn intention(&self) -> Option<Intention> {
-        Some(Intention {
-            text: "scout the junctions ahead".into(),
-            path: self
-                .goal
-                .and_then(|g| self.brief.node_point(Mode::Drive, g))
-                .into_iter()
-                .collect(),
             ..Intention::default()
         })
     }

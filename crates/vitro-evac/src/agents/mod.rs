@@ -11,6 +11,7 @@ pub mod red;
 pub mod squad;
 pub mod tender;
 pub mod trooper;
+pub mod ugv;
 
 use super::brief::{BLUE, Brief};
 use serde::{Deserialize, Serialize};

@@ -1,10 +1,12 @@
 //! The red side: adversaries hiding in the village who fire at blue units they can see and
-//! that no drone watches over, and the high-value target, hidden until it shows up, then
-//! evading its pursuers with the configured anytime search.
+//! that no drone watches over (the first `patrol.attackers` of them also play the patrol
+//! game's attacker: [`Attacker`]), and the high-value target, hidden until it shows up,
+//! then evading its pursuers with the configured anytime search.
 
 use super::SENSE;
 use super::hunt::Search;
 use super::hunt::TurnClock;
+use super::patrol::attack::{Attacker, PatrolWatch};
 use super::trooper::{DECIDED, TURN};
 use crate::act::{Fire, SetStatus, Walk};
 use crate::brief::Brief;
@@ -31,7 +33,14 @@ pub struct Adversary {
     aim: BTreeMap<EntityId, SimTime>,
     /// Shots fired.
     pub shots: u32,
+    /// Its part as the patrol game's attacker, if it plays it.
+    pub attacker: Option<Attacker>,
 }
+
+/// Timer key: half a second after a patrol step, follow the truck (the attacker's phase).
+const FOLLOW: u64 = 40;
+/// Timer key: half a second before a patrol step, watch the Skeldars (and maybe strike).
+const WATCH: u64 = 41;
 
 impl Adversary {
     /// An adversary of `brief`.
@@ -40,7 +49,44 @@ impl Adversary {
             brief,
             aim: BTreeMap::new(),
             shots: 0,
+            attacker: None,
         }
+    }
+
+    /// An adversary of `brief` that also plays the patrol game's attacker.
+    pub fn attacking(brief: Arc<Brief>, attacker: Attacker) -> Self {
+        Adversary {
+            attacker: Some(attacker),
+            ..Adversary::new(brief)
+        }
+    }
+
+    /// The attacker's two looks per patrol step (Skeldars step at 1 s + k · `step_s`): the
+    /// truck just after a step, the Skeldars just before the next. Stops once it attacked.
+    fn on_patrol(&mut self, key: u64, cx: &mut Context<'_, Tactical>) {
+        let active = cx
+            .sense(&Myself)
+            .is_some_and(|(c, _)| c.status == Status::Active);
+        let watch = PatrolWatch {
+            range: self.brief.patrol.watch_range_m,
+        };
+        let Some(attacker) = self.attacker.as_mut() else {
+            return;
+        };
+        if !active || attacker.attack.is_some() {
+            return;
+        }
+        let seen = cx.sense(&watch);
+        if key == FOLLOW {
+            let truck = seen.truck.map(|p| self.brief.site.to_town([p[0], p[1]]));
+            attacker.follow(truck);
+        } else if attacker
+            .watch(cx.now().as_secs_f64(), &seen.skeldars)
+            .is_some()
+        {
+            return;
+        }
+        cx.set_timer(SimDuration::from_secs_f64(attacker.game.step_s), key);
     }
 
     fn on_sense(&mut self, cx: &mut Context<'_, Tactical>) {
@@ -90,12 +136,27 @@ impl Controller for Adversary {
         match input {
             Input::Event(Ev::Start) => {
                 cx.set_timer(SimDuration::from_secs(1), SENSE);
+                if let Some(a) = &self.attacker {
+                    let step = a.game.step_s;
+                    cx.set_timer(SimDuration::from_secs_f64(1.5), FOLLOW);
+                    cx.set_timer(SimDuration::from_secs_f64(0.5 + step), WATCH);
+                }
             }
             Input::Timer(SENSE) => self.on_sense(cx),
+            Input::Timer(key @ (FOLLOW | WATCH)) => self.on_patrol(key, cx),
             _ => {}
         }
     }
     fn intention(&self) -> Option<Intention> {
+        if let Some(a) = self.attacker.as_ref().and_then(|a| a.attack.as_ref()) {
+            return Some(Intention {
+                text: format!(
+                    "attack target {} (computed capture probability {:.2})",
+                    a.target, a.capture
+                ),
+                ..Intention::default()
+            });
+        }
         let text = if self.aim.is_empty() {
             "hide and watch".to_string()
         } else {

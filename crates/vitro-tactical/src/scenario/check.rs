@@ -303,6 +303,21 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
         (1..=1000).contains(&it),
         "a number of iterations in 1..=1000",
     );
+    let a = p.attackers;
+    c.value(
+        "patrol.attackers",
+        a,
+        (0..=100).contains(&a),
+        "a number of attackers in 0..=100",
+    );
+    c.num(
+        "patrol.watch_range_m",
+        p.watch_range_m,
+        true,
+        0.0,
+        1e6,
+        "metres",
+    );
 
     let budget = f.pursuit.budget;
     let ok = (1..=10_000_000).contains(&budget);
@@ -332,6 +347,15 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
     if let Some(d) = f.repair.max_depth {
         c.value("repair.max_depth", d, d >= 1, "a depth of at least 1");
     }
+    let rate = f.repair.failure_rate;
+    c.num(
+        "repair.failure_rate",
+        rate,
+        false,
+        0.0,
+        1.0,
+        "a probability",
+    );
     if let (Some(given), Some(resolved)) = (&f.formation.program, &loaded.program) {
         c.file_exists(
             "formation.program",

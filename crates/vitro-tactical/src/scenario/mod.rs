@@ -459,6 +459,14 @@ pub struct PatrolSpec {
     /// LP iterations of each local search of the patrol solver (more: closer to the
     /// optimum, a slower mission setup).
     pub iterations: u32,
+    /// Red troopers that play the game's attacker (the first ones): briefed with the
+    /// patrol's policies and the convoy's timetable, each watches the Skeldars and the
+    /// truck and strikes the convoy or the route ahead once, at the start the game's
+    /// attacker picks (0: none; scored in the report, the convoy is not hurt).
+    pub attackers: u32,
+    /// How far the game's attacker sees the Skeldars and the truck, metres (horizontally;
+    /// line of sight not checked).
+    pub watch_range_m: f64,
 }
 
 impl Default for PatrolSpec {
@@ -468,6 +476,8 @@ impl Default for PatrolSpec {
             attack_steps: 3,
             horizon: 2,
             iterations: 5,
+            attackers: 1,
+            watch_range_m: 2000.0,
         }
     }
 }
@@ -533,6 +543,9 @@ pub struct RepairSpec {
     /// Deepest repair tried before replanning (none: no limit).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_depth: Option<u32>,
+    /// Probability that a Vidar's look at a checkpoint fails (glare, smoke, a gust), and
+    /// that a Vidar other than the lead is recalled during the mission.
+    pub failure_rate: f64,
 }
 
 /// Troop formations.
