@@ -278,6 +278,9 @@ impl Mission {
             }
             if let Some(c) = agent.and_then(|a| a.downcast_ref::<agents::commander::Commander>()) {
                 m.vehicle_stalls += u64::from(c.stalls);
+                m.cnet_calls += c.tender.calls;
+                m.cnet_awards += c.tender.awards;
+                m.cnet_reallocations += c.tender.reallocations;
             }
             let cover = aircraft.and_then(|a| a.cover.as_ref());
             if let Some(c) = cover {
@@ -389,5 +392,6 @@ fn radio_kind(r: &Radio) -> &'static str {
         Radio::Order(_) => "order",
         Radio::Plan(_) => "plan",
         Radio::Signal(..) => "signal",
+        Radio::Tender { .. } => "tender",
     }
 }

@@ -186,6 +186,9 @@ fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
         ("plan_fallbacks", Metric::count(m.plan_fallbacks)),
         ("checkpoints_missed", Metric::count(m.checkpoints_missed)),
         ("shots", Metric::count(m.shots)),
+        ("cnet_calls", Metric::count(m.cnet_calls)),
+        ("cnet_awards", Metric::count(m.cnet_awards)),
+        ("cnet_reallocations", Metric::count(m.cnet_reallocations)),
         (
             "patrol_capture_probability",
             m.patrol_capture_probability.into(),
@@ -363,11 +366,17 @@ fn summary(mission: &Mission, m: &Metrics) -> Vec<(String, String)> {
         ),
         (
             "HVT".to_owned(),
-            if m.hvt_captured {
-                format!("captured at {}", opt(m.hvt_capture_s))
-            } else {
-                "not captured".into()
-            },
+            format!(
+                "{}; hunt slots by contract net: {} calls, {} awards, {} reallocations",
+                if m.hvt_captured {
+                    format!("captured at {}", opt(m.hvt_capture_s))
+                } else {
+                    "not captured".into()
+                },
+                m.cnet_calls,
+                m.cnet_awards,
+                m.cnet_reallocations
+            ),
         ),
         (
             "messages".to_owned(),

@@ -62,6 +62,13 @@ pub struct Metrics {
     pub checkpoints_missed: u64,
     /// Shots fired by the adversaries.
     pub shots: u64,
+    /// Calls for proposals the truck made for the hunt's pursuer slots (contract net).
+    pub cnet_calls: u64,
+    /// Pursuer slots awarded (contracts renewed included).
+    pub cnet_awards: u64,
+    /// Pursuer slots called again because a hunter was lost (down, silent, or its
+    /// contract failed).
+    pub cnet_reallocations: u64,
     /// The patrol game's least capture probability over the attacks of the trip, as
     /// computed when the mission was built (absent without a Skeldar).
     pub patrol_capture_probability: Option<f64>,

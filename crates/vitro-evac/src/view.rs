@@ -235,6 +235,9 @@ pub fn metric_map(m: &super::Metrics) -> BTreeMap<String, f64> {
     out.insert("vehicle_stalls".into(), m.vehicle_stalls as f64);
     out.insert("aircraft_down".into(), m.aircraft_down as f64);
     out.insert("shots".into(), m.shots as f64);
+    out.insert("cnet_calls".into(), m.cnet_calls as f64);
+    out.insert("cnet_awards".into(), m.cnet_awards as f64);
+    out.insert("cnet_reallocations".into(), m.cnet_reallocations as f64);
     out.insert("patrol_attacks".into(), m.patrol_attacks as f64);
     out.insert(
         "patrol_attacks_stopped".into(),

@@ -151,10 +151,13 @@ fn the_escort_joins_the_hunt_once_the_vip_is_out() {
     }
     let before = before.expect("a hunt was on before the VIP was out");
     assert_eq!(status(&m, m.brief.vip), Some(Status::Extracted));
-    m.advance(t + SimDuration::from_secs(60));
+    // A slot whose call found nobody (lost messages) is called again after RECALL_S.
+    m.advance(t + SimDuration::from_secs(60 + vitro_evac::agents::tender::RECALL_S as u64));
     let c = commander(&m);
+    // Up: on its feet (the umpire's view). A trooper down where nobody saw it makes no bid
+    // for a hunt slot (contract net), so it is not sent.
     let up: Vec<EntityId> = (m.brief.team.iter().copied())
-        .filter(|&id| !c.fallen.contains(&id))
+        .filter(|&id| status(&m, id) == Some(Status::Active))
         .collect();
     assert!(up.len() > k, "{up:?}");
     assert_eq!(c.hunters.len(), up.len(), "{:?} hunt, {up:?} up", c.hunters);

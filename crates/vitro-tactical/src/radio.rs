@@ -31,6 +31,27 @@ pub enum Radio {
     Plan(Vec<String>),
     /// A named signal with a short argument (e.g. `("formation", "wedge")`).
     Signal(String, String),
+    /// Task allocation by contract net ([`vitro::protocol::contract_net`]): a call for
+    /// proposals for `task` at `at` (no `cost`), or a proposal for it bidding `cost`
+    /// (lower wins).
+    Tender {
+        /// What is allocated (e.g. `"hunt"`, a pursuer slot of the HVT hunt).
+        task: String,
+        /// Where the task is, world (x, y), as far as the caller knows.
+        at: [f64; 2],
+        /// The bid, in a proposal.
+        cost: Option<f64>,
+    },
+}
+
+impl vitro::protocol::Bid for Radio {
+    /// The cost a [`Radio::Tender`] proposal bids; no other message bids.
+    fn bid(&self) -> Option<f64> {
+        match self {
+            Radio::Tender { cost, .. } => *cost,
+            _ => None,
+        }
+    }
 }
 
 /// What an [`Radio::Order`] tells the receiver to do.

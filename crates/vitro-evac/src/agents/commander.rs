@@ -1,7 +1,8 @@
 //! The truck and its commander: drives the team to the safehouse leg by leg, sends the
 //! troopers for the VIP as a squad in formation (see the [squad module](super::squad)) and
 //! back with it, takes everybody on board, drives to the extraction point, and splits off
-//! pursuers when the high-value target is reported.
+//! pursuers when the high-value target is reported (the slots allocated by contract net,
+//! see [`Tender`]).
 
 use super::hunt::SILENT;
 use super::{SENSE, tell};
@@ -13,6 +14,7 @@ use std::collections::BTreeSet;
 use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
+use vitro::protocol::Handled;
 use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
 use vitro_site::map::Mode;
@@ -22,6 +24,9 @@ use vitro_tactical::belief::Beacon;
 use vitro_tactical::condition::Status;
 use vitro_tactical::model::{Controller, Intention, Tactical};
 use vitro_tactical::radio::{Order, Radio};
+
+mod hunters;
+use super::tender::Tender;
 
 /// Timer key: the VIP is ready to leave.
 const READY: u64 = 10;
@@ -73,9 +78,13 @@ pub struct Commander {
     ordered_at: SimTime,
     hunt_ordered_at: SimTime,
     hunt_done: bool,
+    /// True once the hunt was called (the HVT first reported).
+    hunt_called: bool,
     /// The pursuers, once the hunt is on.
     pub hunters: Vec<EntityId>,
     hunt_pending: bool,
+    /// The allocation of the pursuer slots by contract net.
+    pub tender: Tender,
     /// When each phase began.
     pub log: Vec<(SimTime, Phase)>,
     /// The last refusal of the drive actuator, if the last leg was refused.
@@ -115,8 +124,10 @@ impl Commander {
             ordered_at: SimTime::ZERO,
             hunt_ordered_at: SimTime::ZERO,
             hunt_done: false,
+            hunt_called: false,
             hunters: Vec::new(),
             hunt_pending: false,
+            tender: Tender::default(),
             log: Vec::new(),
             refused: None,
             squad: None,
@@ -213,8 +224,7 @@ impl Commander {
                         .map(|&id| (id, self.brief.troop_kind(id)))
                         .collect();
                     let _ = cx.act(&self.dismount, out);
-                    self.hunters.extend(escorts);
-                    self.order_hunt(cx);
+                    self.all_join(cx);
                 }
                 let _ = cx.act(&Unload, ());
             }
@@ -271,14 +281,9 @@ impl Commander {
             return;
         }
         let waited = self.waiting.remove(&id);
-        if self.hunters.contains(&id) {
-            // A fallen pursuer leaves the roster; if it led, the next one takes over.
-            let active = self.hunting();
-            self.hunters.retain(|&h| h != id);
-            if active && !self.hunters.is_empty() {
-                self.order_hunt(cx);
-            }
-        }
+        // A fallen pursuer leaves the roster (if it led, the next one takes over) and its
+        // slot is called again.
+        self.lose_hunter(id, cx);
         self.reform(cx);
         if waited {
             self.all_answered(cx);
@@ -333,74 +338,13 @@ impl Commander {
         self.drive_leg(cx);
     }
 
-    /// Whether pursuers are out after the HVT, not yet captured.
-    fn hunting(&self) -> bool {
-        !self.hunters.is_empty() && !self.hunt_pending && !self.hunt_done
-    }
-
-    /// The HVT showed up: sends `hvt_pursuers` troopers after it (the whole escort once the
-    /// VIP is out).
-    fn start_hunt(&mut self, cx: &mut Context<'_, Tactical>) {
-        let k = self.brief.mission.hvt_pursuers as usize;
-        if !self.hunters.is_empty() || k == 0 || self.hunt_done {
-            return;
-        }
-        let k = if self.phase == Phase::Done {
-            usize::MAX
-        } else {
-            k
-        };
-        let fallen = &self.fallen;
-        self.hunters = (self.brief.team.iter().copied())
-            .filter(|id| !fallen.contains(id))
-            .take(k)
-            .collect();
-        // Every pursuer leaves the wait (`any` would stop at the first one removed).
-        let mut waited_for_hunters = false;
-        for id in &self.hunters {
-            waited_for_hunters |= self.waiting.remove(id);
-        }
-        self.reform(cx);
-        match self.phase {
-            Phase::Out | Phase::Back => self.hunt_pending = true,
-            _ => self.release_hunters(cx),
-        }
-        if waited_for_hunters {
-            self.all_answered(cx);
-        }
-    }
-
-    /// Lets the pursuers out (if aboard) and sends them after the target.
-    fn release_hunters(&mut self, cx: &mut Context<'_, Tactical>) {
-        self.hunt_pending = false;
-        let out: Vec<_> = self
-            .hunters
-            .iter()
-            .map(|&id| (id, self.brief.troop_kind(id)))
-            .collect();
-        let _ = cx.act(&self.dismount, out);
-        self.order_hunt(cx);
-    }
-
-    /// Sends the pursuit order to every pursuer.
-    fn order_hunt(&mut self, cx: &mut Context<'_, Tactical>) {
-        let Some(target) = self.brief.hvt else { return };
-        self.hunt_ordered_at = cx.now();
-        for &id in &self.hunters {
-            tell(
-                cx,
-                id,
-                Radio::Order(Order::Pursue {
-                    target,
-                    team: self.hunters.clone(),
-                }),
-            );
-        }
-    }
-
     fn on_signal(&mut self, from: EntityId, what: &str, arg: &str, cx: &mut Context<'_, Tactical>) {
         match what {
             "captured" => self.hunt_done = true,
+            super::hunt::SEARCH => {
+                self.search_point(arg);
+                return;
+            }
             "down" => {
                 let id = arg.trim().parse().ok().map(EntityId);
                 let ours = |id: &EntityId| self.brief.team.contains(id) || *id == self.brief.vip;
@@ -410,12 +354,11 @@ impl Commander {
                 return;
             }
             SILENT => {
-                // The hunt lead is silent: the next pursuer leads, the silent one (if it
-                // is still up) goes last.
-                let lead = arg.trim().parse().ok().map(EntityId);
-                if self.hunting() && lead.is_some() && self.hunters.first() == lead.as_ref() {
-                    self.hunters.rotate_left(1);
-                    self.order_hunt(cx);
+                // The hunt lead is silent: lost (down unseen, or out of reach). The next
+                // pursuer leads, and the slot is called again.
+                let who = arg.trim().parse().ok().map(EntityId);
+                if let Some(id) = who.filter(|_| self.hunting()) {
+                    self.lose_hunter(id, cx);
                 }
                 return;
             }
@@ -506,6 +449,7 @@ impl Commander {
             // The pursuit order may have been lost: it is idempotent, send it again.
             self.order_hunt(cx);
         }
+        self.tender_tick(cx);
         if !self.waiting.is_empty() && waited > PATIENCE_S {
             match self.phase {
                 Phase::Pickup | Phase::Escort => self.board_all(cx),
@@ -520,6 +464,11 @@ impl Commander {
 
 impl Controller for Commander {
     fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+        match self.tender.cnet().handle(input, cx) {
+            Handled::Event(e) => return self.on_cnet(e, cx),
+            Handled::Consumed => return,
+            Handled::NotMine => {}
+        }
         match input {
             Input::Event(Ev::Start) => {
                 cx.join(crate::brief::BLUE);
@@ -541,8 +490,8 @@ impl Controller for Commander {
             Input::Timer(SENSE) => self.on_sense(cx),
             Input::Message(env) => match &env.body {
                 Radio::Signal(what, arg) => self.on_signal(env.from, what, arg, cx),
-                Radio::Contact { target, .. } if Some(*target) == self.brief.hvt => {
-                    self.start_hunt(cx);
+                Radio::Contact { target, pos, .. } if Some(*target) == self.brief.hvt => {
+                    self.start_hunt(*pos, cx);
                 }
                 _ => {}
             },
@@ -575,6 +524,9 @@ impl Controller for Commander {
         }
         if !self.hunters.is_empty() {
             plan.push(format!("{} pursuers after the HVT", self.hunters.len()));
+        }
+        if self.tender.open() > 0 && !self.hunt_done {
+            plan.push(format!("{} hunt slots to allocate", self.tender.open()));
         }
         if let Some(e) = &self.refused {
             plan.push(format!("cannot drive: {e}"));

@@ -9,6 +9,7 @@ pub mod overwatch;
 pub mod patrol;
 pub mod red;
 pub mod squad;
+pub mod tender;
 pub mod trooper;
 pub mod ugv;
 

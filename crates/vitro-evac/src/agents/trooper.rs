@@ -5,6 +5,7 @@
 
 use super::hunt::{Hunt, TurnClock};
 use super::squad::{self, Part, Squad, note};
+use super::tender::{CNET, cnet_config};
 use super::{Reporter, SENSE, last_known, note_friends, tell};
 use crate::act::{ActError, Board, Capture, Walk};
 use crate::brief::{BLUE, Brief};
@@ -14,6 +15,7 @@ use std::sync::Arc;
 use vitro::comm::Envelope;
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
+use vitro::protocol::{ContractNet, Handled, Reply};
 use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
 use vitro_site::map::Mode;
@@ -27,7 +29,10 @@ use vitro_tactical::entity::troop::StepCmd;
 use vitro_tactical::model::{Controller, Intention, Tactical};
 use vitro_tactical::radio::{Order, Radio};
 
+mod bidding;
 mod hunting;
+
+pub use bidding::LEAD_COST_M;
 
 /// Timer key of the hunt's turns.
 pub(crate) const TURN: u64 = 20;
@@ -86,6 +91,10 @@ pub struct Trooper {
     /// Where it believes the others are (their reports, its own eyes).
     known: Whereabouts,
     beacon: Beacon,
+    /// The contract net (it bids for hunt slots).
+    cnet: ContractNet<Radio>,
+    /// Its hunt contract, if it won a slot: where to report.
+    pub contract: Option<Reply>,
 }
 
 impl Trooper {
@@ -110,6 +119,8 @@ impl Trooper {
             ticks: 0,
             steered: false,
             me: None,
+            cnet: ContractNet::new(CNET, cnet_config()),
+            contract: None,
         }
     }
 
@@ -304,6 +315,7 @@ impl Trooper {
                 }
                 self.try_board(cx);
             }
+            Order::Pursue { target, team } if !team.contains(&cx.me()) => self.leave_hunt(*target),
             Order::Pursue { target, team } => {
                 // A new roster of the hunt it is on (pursuers joined, or one fell): the
                 // lead keeps its belief; a new lead starts the turns.
@@ -428,6 +440,7 @@ impl Trooper {
                     h.over = true;
                 }
                 self.task = Task::Idle;
+                self.report_capture(cx);
             }
             Radio::Signal(s, _)
                 if s == "join"
@@ -490,6 +503,7 @@ impl Trooper {
                     tell(cx, id, Radio::Signal("captured".into(), String::new()));
                 }
                 self.task = Task::Idle;
+                self.report_capture(cx);
             }
             if let Some(h) = self.hunt.as_mut() {
                 h.observe(cx.now(), s.pos);
@@ -502,6 +516,11 @@ impl Trooper {
 impl Controller for Trooper {
     fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
         self.me = Some(cx.me());
+        match self.cnet.handle(input, cx) {
+            Handled::Event(e) => return self.on_cnet(e, cx),
+            Handled::Consumed => return,
+            Handled::NotMine => {}
+        }
         match input {
             Input::Event(Ev::Start) => {
                 cx.join(BLUE);
