@@ -116,6 +116,7 @@ pub fn calibrate(
         }
     }
     let before = run_jobs(setup, trips, &jobs, None, threads, tick)?;
+    let unfinished = before.iter().filter(|r| r.is_none()).count();
     let mut concrete: Vec<Option<f64>> = vec![None; trips.len()];
     let mut uncal: BTreeMap<(usize, Level), f64> = BTreeMap::new();
     for (j, r) in jobs.iter().zip(&before) {
@@ -176,6 +177,7 @@ pub fn calibrate(
         from: Level::Physical.name().into(),
         seed: stamp.seed,
         wall_s: 0.0,
+        unfinished,
         fits,
         trips: Vec::new(),
     };
@@ -186,6 +188,7 @@ pub fn calibrate(
         .collect();
     let shared = Arc::new(cal.clone());
     let after = run_jobs(setup, trips, &jobs, Some(shared), threads, tick)?;
+    cal.unfinished += after.iter().filter(|r| r.is_none()).count();
     let mut cal_t: BTreeMap<(usize, Level), f64> = BTreeMap::new();
     for (j, r) in jobs.iter().zip(&after) {
         if let Some(r) = r {
@@ -259,5 +262,7 @@ pub(crate) fn run_jobs(
             message: "a trip's run failed".into(),
         });
     }
-    out.into_iter().collect()
+    // A trip whose body gave up (stalled) at some level has no time there: it is left out
+    // of the fit and the residuals (the file lists the trips that have every time).
+    Ok(out.into_iter().map(|r| r.ok().flatten()).collect())
 }

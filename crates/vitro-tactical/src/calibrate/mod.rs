@@ -268,6 +268,9 @@ pub struct Calibration {
     pub seed: u64,
     /// Wall-clock seconds `vitro calibrate` took (information only).
     pub wall_s: f64,
+    /// Runs that did not reach their goal (a body that stalled): their trips are left out.
+    #[serde(default)]
+    pub unfinished: usize,
     /// The fits, one per (entity type, abstract level).
     #[serde(rename = "fit")]
     pub fits: Vec<Fit>,

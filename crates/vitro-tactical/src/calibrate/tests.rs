@@ -12,6 +12,7 @@ fn sample() -> Calibration {
         from: "physical".into(),
         seed: 3,
         wall_s: 1.5,
+        unfinished: 0,
         fits: vec![Fit {
             entity: "cargo_truck".into(),
             level: "discrete".into(),
