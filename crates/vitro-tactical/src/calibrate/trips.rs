@@ -121,7 +121,24 @@ pub fn sample(setup: &Setup, s: &Sampling) -> Vec<Trip> {
                 let (a, b) = c[rng.random_range(0..c.len())];
                 if rng.random_bool(0.5) { (a, b) } else { (b, a) }
             };
-            let to = mains[rng.random_range(0..mains.len())];
+            // Goals whose straight-line distance could give a path length in range.
+            let Some(at) = g.graph.node(from).map(|n| n.pos) else {
+                continue;
+            };
+            let near: Vec<NodeId> = mains
+                .iter()
+                .copied()
+                .filter(|&n| {
+                    g.graph.node(n).is_some_and(|q| {
+                        let d = vitro_site::geo::dist(at, q.pos);
+                        d >= 0.5 * lo && d <= hi
+                    })
+                })
+                .collect();
+            if near.is_empty() {
+                continue;
+            }
+            let to = near[rng.random_range(0..near.len())];
             let Ok(path) = g.path(from, to) else { continue };
             if over_bridge && path.get(1) != Some(&first) {
                 continue;
