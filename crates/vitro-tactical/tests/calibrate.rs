@@ -21,7 +21,7 @@ fn tiny(seed: u64, fit: usize, held: usize) -> Sampling {
     Sampling {
         fit_per_type: fit,
         held_out_per_type: held,
-        drive_m: (150.0, 300.0),
+        drive_m: (150.0, 700.0),
         walk_m: (40.0, 90.0),
         kinds: vec![
             NodeKind::Ground(GroundKind::CargoTruck),
