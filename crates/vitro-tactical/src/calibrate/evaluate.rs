@@ -11,6 +11,9 @@ use crate::entity::Level;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
+/// The concrete level and the paired times: concrete, before, after.
+type Paired = (Level, Vec<f64>, Vec<f64>, Vec<f64>);
+
 /// How well one abstract level predicts the concrete level for one entity type.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Prediction {
@@ -70,8 +73,7 @@ pub fn evaluate(
         .zip(after)
         .filter_map(|(j, r)| r.map(|r| ((j.trip, j.level), r)))
         .collect();
-    let mut groups: BTreeMap<(String, Level), (Level, Vec<f64>, Vec<f64>, Vec<f64>)> =
-        BTreeMap::new();
+    let mut groups: BTreeMap<(String, Level), Paired> = BTreeMap::new();
     for (&(i, level), &bi) in &b {
         if let (Some(&c), Some(&ai)) = (conc.get(&i), a.get(&(i, level))) {
             let (concrete, _) = levels(trips[i].kind);

@@ -64,9 +64,12 @@ impl Default for Sampling {
     }
 }
 
+/// The two end nodes of a street segment.
+type Ends = (NodeId, NodeId);
+
 /// The main-part nodes of `g` at the ends of a segment of each street class (classes in
 /// name order), and of bridge segments.
-fn starts(setup: &Setup, g: &FreeGraph) -> (Vec<Vec<(NodeId, NodeId)>>, Vec<(NodeId, NodeId)>) {
+fn starts(setup: &Setup, g: &FreeGraph) -> (Vec<Vec<Ends>>, Vec<Ends>) {
     let sg = setup.site.map.streets(g.mode);
     let mut by_class: std::collections::BTreeMap<&str, Vec<(NodeId, NodeId)>> =
         std::collections::BTreeMap::new();
