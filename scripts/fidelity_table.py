@@ -6,11 +6,13 @@ extraction per level, as a Markdown table (and the raw rows as CSV). With `--unt
     cargo build --release -p vitro-cli
     python3 scripts/fidelity_table.py [--seeds 100] [--levels discrete,interpolated,physical]
                                       [--jobs 2] [--until 900] [--out docs/fidelity.csv]
+                                      [--calibration scenarios/evacuation.calibration.toml]
 
 Each run is `vitro run scenarios/evacuation.toml --json --seed S --fidelity LEVEL --until T`; seeds
-are 1..N, so any row can be re-run alone.
+are 1..N, so any row can be re-run alone. With `--calibration FILE` the scenario is run with
+`[fidelity] calibration = FILE` (a copy of it next to the original, removed afterwards).
 """
-import argparse, csv, json, math, statistics, subprocess, sys
+import argparse, csv, json, math, os, statistics, subprocess, sys
 from concurrent.futures import ThreadPoolExecutor
 
 def run(binary, scenario, level, seed, until):
@@ -34,7 +36,27 @@ def main():
     ap.add_argument("--until", type=float, default=900.0,
                     help="simulated seconds per run (the escort is over by 900 s)")
     ap.add_argument("--out", default=None)
+    ap.add_argument("--calibration", default=None,
+                    help="calibration file (made by `vitro calibrate`) the abstract levels use")
     a = ap.parse_args()
+    tmp = None
+    if a.calibration:
+        d = os.path.dirname(os.path.abspath(a.scenario))
+        rel = os.path.relpath(os.path.abspath(a.calibration), d)
+        text = open(a.scenario).read()
+        if "\n[fidelity]\n" not in text:
+            sys.exit("the scenario has no [fidelity] table")
+        text = text.replace("\n[fidelity]\n", f"\n[fidelity]\ncalibration = \"{rel}\"\n", 1)
+        tmp = os.path.join(d, f".calibrated-{os.getpid()}.toml")
+        open(tmp, "w").write(text)
+        a.scenario = tmp
+    try:
+        return table(a)
+    finally:
+        if tmp:
+            os.remove(tmp)
+
+def table(a):
     levels = a.levels.split(",")
     jobs = [(l, s) for l in levels for s in range(1, a.seeds + 1)]
     with ThreadPoolExecutor(a.jobs) as ex:
@@ -42,7 +64,7 @@ def main():
     errors = [r for r in rows if "error" in r]
     for e in errors:
         print(f"run {e['level']} seed {e['seed']} failed: {e['error']}", file=sys.stderr)
-    print("| level | runs | success rate (95% CI) | mean time to extraction, s (sd) | casualties / run | HVT captured | mean capture time, s | sim s per wall s |")
+    print("| level | runs | success rate (95% CI) | mean time to extraction, s (95% CI) (sd) | casualties / run | HVT captured | mean capture time, s | sim s per wall s |")
     print("|---|---|---|---|---|---|---|---|")
     for l in levels:
         rs = [r for r in rows if r["level"] == l and "error" not in r]
@@ -53,7 +75,8 @@ def main():
         p = k / n
         h = 1.96 * math.sqrt(p * (1 - p) / n)
         t = [r["time_to_extraction_s"] for r in rs if r["success"]]
-        mt = f"{statistics.mean(t):.1f} ({statistics.pstdev(t):.1f})" if t else "-"
+        ci = 1.96 * statistics.stdev(t) / math.sqrt(len(t)) if len(t) > 1 else 0.0
+        mt = f"{statistics.mean(t):.1f} ± {ci:.1f} ({statistics.pstdev(t):.1f})" if t else "-"
         cas = statistics.mean(r["casualties"] for r in rs)
         hvt = sum(1 for r in rs if r["hvt_captured"]) / n
         ct = [r["hvt_capture_s"] for r in rs if r["hvt_captured"] and r.get("hvt_capture_s")]

@@ -6,7 +6,12 @@ use anyhow::anyhow;
 use clap::{Args, Subcommand};
 use serde::Serialize;
 use std::path::PathBuf;
-use vitro_tactical::check::{CheckError, Registry, Setup};
+use std::sync::Arc;
+use vitro_tactical::calibrate::evaluate::evaluate;
+use vitro_tactical::calibrate::trips::{Sampling, sample};
+use vitro_tactical::calibrate::{Calibration, site_fingerprint, types_fingerprint};
+use vitro_tactical::check::{CheckError, Registry, Row, Setup};
+use vitro_tactical::entity::Level;
 
 #[derive(Debug, Subcommand)]
 pub(crate) enum CheckCommand {
@@ -25,6 +30,23 @@ pub(crate) struct LevelsArgs {
     /// Prints the rows as a JSON list of {"entity","level","property","pass","value","limit"}.
     #[arg(long)]
     json: bool,
+    /// Also checks "the abstract level predicts the concrete one" with this calibration
+    /// (made by `vitro calibrate` on the same map and terrain): fresh trips, the trip times
+    /// of each abstract level before and after calibration against the concrete level's.
+    #[arg(long)]
+    calibration: Option<PathBuf>,
+    /// Trips per entity type for the prediction property.
+    #[arg(long, default_value_t = 4)]
+    trips: usize,
+    /// Seed of those trips (pick one the calibration did not use).
+    #[arg(long, default_value_t = 1001)]
+    trip_seed: u64,
+    /// Tolerance of the prediction property: mean absolute relative error, %.
+    #[arg(long, default_value_t = 5.0)]
+    tolerance_pct: f64,
+    /// Threads for the prediction property's trips.
+    #[arg(long, default_value_t = 2)]
+    jobs: usize,
 }
 
 #[derive(Serialize)]
@@ -41,9 +63,19 @@ pub(crate) fn check(cmd: &CheckCommand) -> Result<(), Failure> {
     let CheckCommand::Levels(args) = cmd;
     let setup =
         Setup::from_files(&args.map, &args.terrain).map_err(|e| Failure::Input(e.into()))?;
-    let report = Registry::standard(&setup)
+    // The calibration is read (and refused for another town) before any run.
+    let calibration = match &args.calibration {
+        Some(path) => Some(read_calibration(path, args)?),
+        None => None,
+    };
+    let mut report = Registry::standard(&setup)
         .and_then(|r| r.run(&setup))
         .map_err(|e: CheckError| Failure::Runtime(e.into()))?;
+    if let Some(cal) = calibration {
+        let rows = predictions(&setup, cal, args)?;
+        report.pass &= rows.iter().all(|r| r.pass);
+        report.rows.extend(rows);
+    }
     if args.json {
         let rows: Vec<JsonRow<'_>> = report
             .rows
@@ -68,4 +100,66 @@ pub(crate) fn check(cmd: &CheckCommand) -> Result<(), Failure> {
         let failed = report.rows.iter().filter(|r| !r.pass).count();
         Err(Failure::Check(anyhow!("{failed} propert(ies) fail")))
     }
+}
+
+/// Reads the calibration and refuses one made for another map, terrain or type set.
+fn read_calibration(
+    path: &std::path::Path,
+    args: &LevelsArgs,
+) -> Result<Arc<Calibration>, Failure> {
+    let input = |m: String| Failure::Input(anyhow!(m));
+    let cal = Calibration::read(path).map_err(|e| input(e.to_string()))?;
+    let site =
+        site_fingerprint(&args.map, &args.terrain, None).map_err(|e| input(e.to_string()))?;
+    let types = types_fingerprint(vitro_tactical::types::TypeBook::builtin());
+    cal.check(&site, &types)
+        .map_err(|e| input(format!("{}: {e}", path.display())))?;
+    Ok(Arc::new(cal))
+}
+
+/// The rows of "the abstract level predicts the concrete one": per entity type and abstract
+/// level, the mean absolute relative error of its trip times after calibration (before, in
+/// the limit column) on fresh trips.
+fn predictions(
+    setup: &Setup,
+    cal: Arc<Calibration>,
+    args: &LevelsArgs,
+) -> Result<Vec<Row>, Failure> {
+    let trips = sample(
+        setup,
+        &Sampling {
+            fit_per_type: 0,
+            held_out_per_type: args.trips,
+            seed: args.trip_seed,
+            ..Sampling::default()
+        },
+    );
+    let to = [Level::Discrete, Level::Interpolated];
+    let out = evaluate(
+        setup,
+        &cal,
+        &trips,
+        &to,
+        args.tolerance_pct,
+        args.jobs,
+        &|| {},
+    )
+    .map_err(|e| Failure::Runtime(e.into()))?;
+    Ok(out
+        .into_iter()
+        .map(|p| {
+            let r = &p.residuals;
+            Row {
+                entity: p.entity,
+                level: p.level,
+                property: format!("predicts {}", p.concrete.name()),
+                pass: p.pass,
+                value: r.mape_pct_after,
+                limit: format!(
+                    "mean |error| <= {:.1} % over {} trips (uncalibrated {:.1} %, bias {:+.1} -> {:+.1} %)",
+                    p.tolerance_pct, r.n, r.mape_pct_before, r.bias_pct_before, r.bias_pct_after
+                ),
+            }
+        })
+        .collect())
 }

@@ -7,7 +7,8 @@
 //! vitro plan DOMAIN PROBLEM [--optimal] [--json]
 //! vitro solve cops GRAPH.edges [--json]
 //! vitro solve pursuit GRAPH.edges --pursuers K [--visibility HOPS] [--algorithm mcts|minimax] [--evader exact|mcts|flee] --budget B --episodes N --turns T [--seed S] [--json]
-//! vitro check levels [--json]
+//! vitro check levels [--json] [--calibration FILE]
+//! vitro calibrate SCENARIO [--from physical] [--to discrete,interpolated] --out FILE [--jobs N] [--plot STEM]
 //! vitro export kml RUN.mcap [--out FILE.kml]
 //! vitro map info FILE.osm.pbf [--json]
 //! vitro map render FILE.osm.pbf --out map.png [--terrain GRID] [--offset X,Y]
@@ -22,6 +23,7 @@
 //! value out of range, bad arguments), 4 the answer is a failure (no plan exists).
 
 mod batch;
+mod calibrate;
 mod check;
 mod export;
 mod failure;
@@ -82,6 +84,9 @@ enum Command {
     Merge(batch::MergeArgs),
     /// Plots a result directory (PNG and SVG).
     Plot(batch::PlotArgs),
+    /// Fits the abstract levels' trip times to the concrete level's on sample trips over a
+    /// scenario's town (a calibration file for `[fidelity] calibration`).
+    Calibrate(calibrate::CalibrateArgs),
     /// Cross-level checks: `vitro check levels`.
     #[command(subcommand)]
     Check(check::CheckCommand),
@@ -108,6 +113,7 @@ fn main() -> ExitCode {
         Command::Solve(cmd) => solve::solve(&cmd),
         Command::Map(cmd) => map::map(&cmd),
         Command::Check(cmd) => check::check(&cmd),
+        Command::Calibrate(args) => calibrate::calibrate(&args),
         Command::Terrain(cmd) => map::terrain(&cmd),
         Command::Export(cmd) => export::export(&cmd),
         Command::View(args) => view::view(&args),

@@ -281,7 +281,8 @@ pub(crate) fn build(
         formation,
     });
 
-    let arena = Arena::with(site.clone(), roads.clone(), Arc::new(ty.clone()));
+    let mut arena = Arena::with(site.clone(), roads.clone(), Arc::new(ty.clone()));
+    arena.calibration = v.calibration.clone();
     let mut sim = Simulation::<Tactical>::new(arena, seed);
     if file.tie_order == TieOrder::Shuffled {
         sim.shuffle_ties();

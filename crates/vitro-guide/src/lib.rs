@@ -53,6 +53,10 @@ pub mod scenarios {}
 #[doc = include_str!("../../../docs/guide/src/experiments.md")]
 pub mod experiments {}
 
+/// Calibrating the abstract levels (`docs/guide/src/calibration.md`).
+#[doc = include_str!("../../../docs/guide/src/calibration.md")]
+pub mod calibration {}
+
 /// From one machine to a cluster (`docs/guide/src/cluster.md`).
 #[doc = include_str!("../../../docs/guide/src/cluster.md")]
 pub mod cluster {}

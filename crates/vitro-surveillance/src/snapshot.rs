@@ -201,10 +201,15 @@ impl Operation {
         }
         let env = self.sim.env();
         let (site, roads, types) = (env.site.clone(), env.roads.clone(), env.types.clone());
+        let calibration = env.calibration.clone();
         let mut sim = Simulation::restore_state(
             state.sim,
             |a| {
                 Arena::restore(site, roads, types, a)
+                    .map(|mut a| {
+                        a.calibration = calibration;
+                        a
+                    })
                     .map_err(|e| SnapshotError::Corrupt(e.to_string()))
             },
             agent_box,

@@ -168,6 +168,9 @@ pub struct Arena {
     /// Tracks planned so far, by body kind, start and goal node (a trip depends on nothing
     /// else, and vehicles on rounds drive the same trips again).
     pub(crate) tracks: TrackCache,
+    /// The calibration the abstract levels' trips follow (none: the profile as planned).
+    /// Not part of the state: a function of the scenario.
+    pub calibration: Option<Arc<crate::calibrate::Calibration>>,
     /// Per clock: its next tick, while it runs.
     next_tick: [Option<EventId>; 3],
     /// The active bodies on a grid, for vision ([`bodies_near`](Self::bodies_near)).
@@ -181,13 +184,16 @@ const TRACK_CACHE_MAX: usize = 4096;
 
 /// Planned tracks, shared by the trips that drive them.
 #[derive(Debug, Default)]
-pub(crate) struct TrackCache(HashMap<(NodeKind, NodeId, NodeId), Arc<Track>>);
+pub(crate) struct TrackCache(HashMap<TrackKey, Arc<Track>>);
+
+/// A cached track: body kind, start, goal, and the level if a calibration stretched it.
+pub(crate) type TrackKey = (NodeKind, NodeId, NodeId, Option<Level>);
 
 impl TrackCache {
     /// The track of `key`, planned by `plan` the first time.
     pub(crate) fn get_or_plan<E>(
         &mut self,
-        key: (NodeKind, NodeId, NodeId),
+        key: TrackKey,
         plan: impl FnOnce() -> Result<Track, E>,
     ) -> Result<Arc<Track>, E> {
         if let Some(t) = self.0.get(&key) {
@@ -229,6 +235,7 @@ impl Arena {
             pilots: EntityStorage::default(),
             conditions: EntityStorage::default(),
             tracks: TrackCache::default(),
+            calibration: None,
             next_tick: [None; 3],
             grid: Mutex::default(),
             sight: Mutex::default(),

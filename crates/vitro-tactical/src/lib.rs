@@ -89,6 +89,7 @@ pub mod arena;
 pub mod autopilot;
 pub mod behaviour;
 pub mod belief;
+pub mod calibrate;
 pub mod check;
 pub mod condition;
 pub mod entity;

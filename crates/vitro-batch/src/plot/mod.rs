@@ -14,8 +14,10 @@
 
 mod draw;
 mod error;
+mod scatter;
 mod search;
 pub use crate::stats;
+pub use scatter::{Scatter, plot_scatter};
 pub use search::{SearchCurves, plot_search_curves};
 
 use crate::design::Origin;

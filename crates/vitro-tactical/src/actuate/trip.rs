@@ -2,6 +2,7 @@
 //! shared), the hop events along it, and the answer when it has arrived.
 
 use crate::arena::{Arena, Ev};
+use crate::entity::Level;
 use crate::entity::discrete::{NodeKind, Trip};
 use crate::entity::roads::RouteError;
 use crate::entity::route::Track;
@@ -40,16 +41,40 @@ pub(crate) fn arrived(who: EntityId, goal: NodeId, fx: &mut Effects<'_, Ev>) {
     fx.schedule_in(SimDuration::ZERO, Target::Entity(who), Ev::Arrived(goal));
 }
 
-/// The track from `from` to `goal` for a body of `kind` (planned once per arena, then
-/// shared).
+/// The track from `from` to `goal` for a body of `kind` at `level` (planned once per arena,
+/// then shared). At an abstract level (discrete, interpolated) with a fit in the arena's
+/// [`calibration`](Arena::calibration), the profile is stretched to the predicted concrete
+/// time ([`crate::calibrate`]); otherwise it is the plan itself.
 pub(crate) fn plan(
+    w: &mut Arena,
+    kind: NodeKind,
+    level: Level,
+    from: NodeId,
+    goal: NodeId,
+) -> Result<Arc<Track>, MoveError> {
+    let cal = w
+        .calibration
+        .clone()
+        .filter(|c| c.fit(&crate::calibrate::entity_key(kind), level).is_some());
+    let Some(cal) = cal else {
+        return plan_raw(w, kind, from, goal);
+    };
+    let raw = plan_raw(w, kind, from, goal)?;
+    w.tracks.get_or_plan((kind, from, goal, Some(level)), || {
+        let k = cal.stretch(kind, level, &raw).unwrap_or(1.0);
+        Ok::<_, MoveError>(crate::calibrate::stretched(&raw, k))
+    })
+}
+
+/// The planned track, uncalibrated.
+fn plan_raw(
     w: &mut Arena,
     kind: NodeKind,
     from: NodeId,
     goal: NodeId,
 ) -> Result<Arc<Track>, MoveError> {
     let (site, roads, types) = (&w.site, &w.roads, &w.types);
-    w.tracks.get_or_plan((kind, from, goal), || {
+    w.tracks.get_or_plan((kind, from, goal, None), || {
         let roads = roads.of(kind.mode());
         let path = roads.path(from, goal)?;
         Ok(match kind {
@@ -85,7 +110,7 @@ pub(crate) fn start_trip(
         return Ok(());
     }
     let (kind, from) = (b.kind, b.node);
-    let track = plan(w, kind, from, goal)?;
+    let track = plan(w, kind, Level::Discrete, from, goal)?;
     let trip = Trip {
         goal,
         next: 1,

@@ -90,7 +90,7 @@ pub mod directed {
                 return Ok(());
             }
             let kind = NodeKind::Troop(b.kind);
-            let track = plan(w, kind, from, goal)?;
+            let track = plan(w, kind, crate::entity::Level::Directed, from, goal)?;
             w.follow.insert(
                 me,
                 Follow {

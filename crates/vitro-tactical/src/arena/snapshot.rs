@@ -66,6 +66,8 @@ macro_rules! arena_state {
                     // and the line-of-sight memo.
                     grid: Default::default(),
                     sight: Default::default(),
+                    // The calibration comes from the scenario: the caller sets it again.
+                    calibration: None,
                     $($field: state.$field,)*
                 };
                 arena.fill_plans(state.plans)?;

@@ -167,6 +167,8 @@ pub struct Setup {
     pub types: Arc<TypeBook>,
     /// Master seed of every run.
     pub seed: u64,
+    /// The calibration of the abstract levels the runs use (none: uncalibrated).
+    pub calibration: Option<Arc<crate::calibrate::Calibration>>,
 }
 
 /// The map the default check runs on (in the repository's `data/`).
@@ -186,6 +188,7 @@ impl Setup {
             roads,
             types: Arc::new(TypeBook::builtin().clone()),
             seed: 1,
+            calibration: None,
         }
     }
 
@@ -204,7 +207,10 @@ impl Setup {
 
     /// A fresh arena for one run.
     pub fn arena(&self) -> crate::arena::Arena {
-        crate::arena::Arena::with(self.site.clone(), self.roads.clone(), self.types.clone())
+        let mut a =
+            crate::arena::Arena::with(self.site.clone(), self.roads.clone(), self.types.clone());
+        a.calibration = self.calibration.clone();
+        a
     }
 }
 

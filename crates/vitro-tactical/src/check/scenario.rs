@@ -119,7 +119,7 @@ pub fn standard(setup: &Setup) -> Result<Vec<Box<dyn Scenario>>, CheckError> {
 }
 
 /// Runs a [`VisitNodes`] controller to `to` through `goto`; the body is placed by `place`.
-fn visit<A>(
+pub(crate) fn visit<A>(
     setup: &Setup,
     name: &str,
     to: NodeId,
@@ -163,12 +163,12 @@ where
 }
 
 /// What a node-visiting run recorded.
-struct Recorded {
-    samples: Vec<super::Sample>,
-    arrival: Option<f64>,
-    sim_seconds: f64,
-    wall_seconds: f64,
-    events: u64,
+pub(crate) struct Recorded {
+    pub(crate) samples: Vec<super::Sample>,
+    pub(crate) arrival: Option<f64>,
+    pub(crate) sim_seconds: f64,
+    pub(crate) wall_seconds: f64,
+    pub(crate) events: u64,
 }
 
 /// A vehicle type driving from `from` to `to`.

@@ -162,6 +162,14 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
         c.point("site.offset", o, "metres [east, north]");
     }
     fidelity(&mut c);
+    if let (Some(given), Some(resolved)) = (&f.fidelity.calibration, &loaded.calibration) {
+        c.file_exists(
+            "fidelity.calibration",
+            given,
+            resolved,
+            "a calibration file made by `vitro calibrate`",
+        );
+    }
     c.point("places.start", f.places.start, TOWN_XY);
     c.point("places.safehouse", f.places.safehouse, TOWN_XY);
     c.point("places.extraction", f.places.extraction, TOWN_XY);

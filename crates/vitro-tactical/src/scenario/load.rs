@@ -46,6 +46,8 @@ pub struct Validated {
     pub loaded: Loaded,
     /// The town on its terrain at the scenario's offset.
     pub site: Site,
+    /// The calibration the scenario names, checked against its site and types.
+    pub calibration: Option<std::sync::Arc<crate::calibrate::Calibration>>,
 }
 
 impl ScenarioFile {
@@ -94,8 +96,21 @@ impl ScenarioFile {
                 Ok(site) => {
                     let map = SourceMap::new(&loaded.path, &loaded.source);
                     problems.extend(check_site(&loaded.file, &site, &map));
+                    // (A missing file is reported by the file checks.)
+                    let named = loaded.calibration.as_ref().is_some_and(|p| p.is_file());
+                    let calibration = match named.then(|| loaded.calibration()).transpose() {
+                        Ok(c) => c.flatten().map(std::sync::Arc::new),
+                        Err(d) => {
+                            problems.extend(d.0);
+                            None
+                        }
+                    };
                     if problems.is_empty() {
-                        return Ok(Validated { loaded, site });
+                        return Ok(Validated {
+                            loaded,
+                            site,
+                            calibration,
+                        });
                     }
                 }
                 Err(d) => problems.extend(d.0),
@@ -139,6 +154,7 @@ fn read_text(path: &Path, source: String) -> Result<(Loaded, Vec<Diagnostic>), D
         map: resolve(&file.site.map),
         terrain: resolve(&file.site.terrain),
         program: file.formation.program.as_deref().map(resolve),
+        calibration: file.fidelity.calibration.as_deref().map(resolve),
         file,
         path: path.to_path_buf(),
         source,

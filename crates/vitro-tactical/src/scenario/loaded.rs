@@ -2,6 +2,8 @@
 
 use super::ScenarioFile;
 use super::span::{Diagnostics, SourceMap};
+use crate::calibrate::{Calibration, site_fingerprint, types_fingerprint};
+use crate::types::TypeBook;
 use std::path::PathBuf;
 use vitro_site::map::{MapConfig, TownMap};
 use vitro_site::site::{Site, SiteConfig};
@@ -20,11 +22,36 @@ pub struct Loaded {
     pub terrain: PathBuf,
     /// The formation rule file, absolute (none: the built-in rules).
     pub program: Option<PathBuf>,
+    /// The calibration file, absolute (none: uncalibrated abstract levels).
+    pub calibration: Option<PathBuf>,
     /// The file's text.
     pub source: String,
 }
 
 impl Loaded {
+    /// Reads the calibration the scenario names, if any, and checks that it was made for
+    /// this scenario's map, terrain and the built-in type set; problems point at
+    /// `[fidelity] calibration`.
+    pub fn calibration(&self) -> Result<Option<Calibration>, Diagnostics> {
+        let Some(path) = &self.calibration else {
+            return Ok(None);
+        };
+        let map = SourceMap::new(&self.path, &self.source);
+        let fail = |e: String| {
+            Diagnostics(vec![map.at(
+                "fidelity.calibration",
+                e,
+                "a calibration made by `vitro calibrate` on this scenario's map and types",
+            )])
+        };
+        let cal = Calibration::read(path).map_err(|e| fail(e.to_string()))?;
+        let site = site_fingerprint(&self.map, &self.terrain, self.file.site.offset)
+            .map_err(|e| fail(e.to_string()))?;
+        cal.check(&site, &types_fingerprint(TypeBook::builtin()))
+            .map_err(|e| fail(e.to_string()))?;
+        Ok(Some(cal))
+    }
+
     /// Builds the town on its terrain at the scenario's offset; problems point at `[site]`.
     pub fn site(&self) -> Result<Site, Diagnostics> {
         let map = SourceMap::new(&self.path, &self.source);

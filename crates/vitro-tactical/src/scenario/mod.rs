@@ -176,6 +176,11 @@ pub struct FidelitySpec {
     /// Skeldar helicopter UAV: discrete or dynamic.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skeldar: Option<Level>,
+    /// A calibration file made by `vitro calibrate` for this scenario's map, terrain and
+    /// type set, relative to the scenario file's directory: the abstract levels (discrete,
+    /// interpolated) then follow its fitted trip times. None: the plans as they are.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<PathBuf>,
 }
 
 impl FidelitySpec {

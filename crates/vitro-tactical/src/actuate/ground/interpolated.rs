@@ -60,7 +60,7 @@ impl Actuator<Arena, Ev> for GoToNode {
             return Ok(());
         }
         let (kind, from) = (NodeKind::Ground(b.kind), b.node);
-        let track = plan(w, kind, from, goal)?;
+        let track = plan(w, kind, crate::entity::Level::Interpolated, from, goal)?;
         w.follow.insert(
             me,
             Follow {

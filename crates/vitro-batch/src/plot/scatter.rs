@@ -1,0 +1,66 @@
+//! A scatter of paired values (one dot per pair, one colour per group) with the diagonal
+//! `y = x`: predicted against measured, for instance.
+
+use super::draw::{self, Chart, Line, XyChart};
+use super::error::PlotError;
+use crate::stats::MeanCi;
+use std::path::{Path, PathBuf};
+
+/// Groups of (x, y) pairs to draw.
+#[derive(Clone, Debug, Default)]
+pub struct Scatter {
+    /// Title of the chart.
+    pub title: String,
+    /// The line under the title.
+    pub note: String,
+    /// What the x axis measures.
+    pub x_desc: String,
+    /// What the y axis measures.
+    pub y_desc: String,
+    /// Each group's label and its pairs.
+    pub groups: Vec<(String, Vec<(f64, f64)>)>,
+}
+
+/// Draws `scatter` to `STEM.png` and `STEM.svg`, with the diagonal `y = x` over the range of
+/// the data.
+pub fn plot_scatter(scatter: &Scatter, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+    let dot = |x: f64, y: f64| {
+        (
+            x,
+            MeanCi {
+                n: 1,
+                mean: y,
+                lo: y,
+                hi: y,
+            },
+        )
+    };
+    let all = scatter.groups.iter().flat_map(|(_, p)| p.iter());
+    let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(x, y)| {
+        (lo.min(x).min(y), hi.max(x).max(y))
+    });
+    let mut lines: Vec<Line> = scatter
+        .groups
+        .iter()
+        .map(|(label, pts)| Line {
+            label: Some(format!("{label} (n = {})", pts.len())),
+            connect: false,
+            points: pts.iter().map(|&(x, y)| dot(x, y)).collect(),
+        })
+        .collect();
+    if lo.is_finite() && hi > lo {
+        lines.push(Line {
+            label: Some("y = x".into()),
+            connect: true,
+            points: vec![dot(lo, lo), dot(hi, hi)],
+        });
+    }
+    let chart = Chart::Xy(XyChart {
+        title: scatter.title.clone(),
+        x_desc: scatter.x_desc.clone(),
+        y_desc: scatter.y_desc.clone(),
+        note: scatter.note.clone(),
+        lines,
+    });
+    draw::save(&chart, stem)
+}

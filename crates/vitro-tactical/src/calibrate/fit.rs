@@ -1,0 +1,269 @@
+//! Making a calibration: run the sample trips at the concrete level and, uncalibrated, at
+//! the abstract ones; fit each (entity type, abstract level) by least squares; run every
+//! trip again at the calibrated abstract levels and record the residuals, on the fitted
+//! trips and on the held-out ones.
+
+use super::trips::{self, Trip, levels, par_map};
+use super::{Calibration, FORMAT, Features, Fit, Residuals, TripRecord, entity_key};
+use crate::check::{CheckError, Setup};
+use crate::entity::Level;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// What the fit's runs are labelled with: where the calibration is for.
+#[derive(Clone, Debug, Default)]
+pub struct Stamp {
+    /// The scenario, as named.
+    pub scenario: String,
+    /// The map's file name.
+    pub map: String,
+    /// [`site_fingerprint`](super::site_fingerprint) of the scenario's site.
+    pub site_fingerprint: String,
+    /// [`types_fingerprint`](super::types_fingerprint) of the type set.
+    pub types_fingerprint: String,
+    /// Seed of the trip sample.
+    pub seed: u64,
+}
+
+/// Runs a calibration needs for `trips` with abstract levels `to`: each trip at its
+/// concrete level, then at each abstract level of `to` it has, uncalibrated and calibrated.
+pub fn runs_needed(trips: &[Trip], to: &[Level]) -> usize {
+    trips
+        .iter()
+        .map(|t| 1 + 2 * levels(t.kind).1.iter().filter(|l| to.contains(l)).count())
+        .sum()
+}
+
+/// Least squares of `y` on the rows `x` with a light pull (1e-3 of each column's scale)
+/// towards `prior`, so that a regressor that hardly varies (no climb on a flat sample)
+/// keeps its prior instead of an arbitrary value.
+pub fn least_squares(x: &[[f64; 4]], y: &[f64], prior: [f64; 4]) -> [f64; 4] {
+    let mut a = [[0.0; 4]; 4];
+    let mut b = [0.0; 4];
+    for (r, &yi) in x.iter().zip(y) {
+        for i in 0..4 {
+            b[i] += r[i] * yi;
+            for j in 0..4 {
+                a[i][j] += r[i] * r[j];
+            }
+        }
+    }
+    for i in 0..4 {
+        let w = 1e-3 * a[i][i].max(1e-6);
+        a[i][i] += w;
+        b[i] += w * prior[i];
+    }
+    solve4(a, b).unwrap_or(prior)
+}
+
+/// Gaussian elimination with partial pivoting.
+fn solve4(mut a: [[f64; 4]; 4], mut b: [f64; 4]) -> Option<[f64; 4]> {
+    for c in 0..4 {
+        let p = (c..4).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c].abs() < 1e-12 {
+            return None;
+        }
+        a.swap(c, p);
+        b.swap(c, p);
+        for r in c + 1..4 {
+            let f = a[r][c] / a[c][c];
+            let pivot = a[c];
+            for (x, p) in a[r].iter_mut().zip(pivot).skip(c) {
+                *x -= f * p;
+            }
+            b[r] -= f * b[c];
+        }
+    }
+    let mut x = [0.0; 4];
+    for c in (0..4).rev() {
+        let s: f64 = (c + 1..4).map(|k| a[c][k] * x[k]).sum();
+        x[c] = (b[c] - s) / a[c][c];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// One run of the calibration: a trip at a level.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Job {
+    pub(crate) trip: usize,
+    pub(crate) level: Level,
+}
+
+/// Makes the calibration of `to` (abstract levels) from the trips: see the module doc.
+/// `threads` threads run the trips (the result does not depend on their number); `tick` is
+/// called after each run ([`runs_needed`] in all).
+pub fn calibrate(
+    setup: &Setup,
+    trips: &[Trip],
+    to: &[Level],
+    stamp: &Stamp,
+    threads: usize,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Calibration, CheckError> {
+    let feats: Vec<Features> = trips
+        .iter()
+        .map(|t| trips::features(setup, t))
+        .collect::<Result<_, _>>()?;
+    // Stage 1: the concrete level and the uncalibrated abstract levels.
+    let mut jobs = Vec::new();
+    for (i, t) in trips.iter().enumerate() {
+        let (concrete, abs) = levels(t.kind);
+        jobs.push(Job {
+            trip: i,
+            level: concrete,
+        });
+        for l in abs.into_iter().filter(|l| to.contains(l)) {
+            jobs.push(Job { trip: i, level: l });
+        }
+    }
+    let before = run_jobs(setup, trips, &jobs, None, threads, tick)?;
+    let unfinished = before.iter().filter(|r| r.is_none()).count();
+    let mut concrete: Vec<Option<f64>> = vec![None; trips.len()];
+    let mut uncal: BTreeMap<(usize, Level), f64> = BTreeMap::new();
+    for (j, r) in jobs.iter().zip(&before) {
+        if j.level == levels(trips[j.trip].kind).0 {
+            concrete[j.trip] = *r;
+        } else if let Some(r) = r {
+            uncal.insert((j.trip, j.level), *r);
+        }
+    }
+    // Stage 2: the fits.
+    let mut groups: BTreeMap<(String, Level), Vec<usize>> = BTreeMap::new();
+    for (i, t) in trips.iter().enumerate() {
+        for l in levels(t.kind).1.into_iter().filter(|l| to.contains(l)) {
+            groups.entry((entity_key(t.kind), l)).or_default().push(i);
+        }
+    }
+    let mut fits = Vec::new();
+    for ((entity, level), idx) in &groups {
+        let (mut x, mut y) = (Vec::new(), Vec::new());
+        for &i in idx.iter().filter(|&&i| trips[i].fit) {
+            let (Some(c), Some(&u)) = (concrete[i], uncal.get(&(i, *level))) else {
+                continue;
+            };
+            let f = &feats[i];
+            // The discrete level hops on the profile's times; the interpolated level has its
+            // own lag, which the stretch scales with it.
+            let target = if *level == Level::Discrete {
+                c
+            } else {
+                c * f.profile_s / u.max(1e-9)
+            };
+            x.push(f.row());
+            y.push(target);
+        }
+        let p = least_squares(&x, &y, [1.0, 0.0, 0.0, 0.0]);
+        fits.push(Fit {
+            entity: entity.clone(),
+            level: level.name().to_owned(),
+            concrete: levels(trips[idx[0]].kind).0.name().to_owned(),
+            alpha: p[0],
+            beta: p[1],
+            kappa: p[2],
+            gamma: p[3],
+            trips: x.len(),
+            fit_residuals: Residuals::default(),
+            held_out: Residuals::default(),
+        });
+    }
+    let mut cal = Calibration {
+        format: FORMAT,
+        model: "T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m; the abstract \
+                level's profile is stretched by T / T_profile"
+            .into(),
+        scenario: stamp.scenario.clone(),
+        map: stamp.map.clone(),
+        site_fingerprint: stamp.site_fingerprint.clone(),
+        types_fingerprint: stamp.types_fingerprint.clone(),
+        from: Level::Physical.name().into(),
+        seed: stamp.seed,
+        wall_s: 0.0,
+        unfinished,
+        fits,
+        trips: Vec::new(),
+    };
+    // Stage 3: every trip again at the calibrated abstract levels.
+    let jobs: Vec<Job> = jobs
+        .into_iter()
+        .filter(|j| j.level != levels(trips[j.trip].kind).0)
+        .collect();
+    let shared = Arc::new(cal.clone());
+    let after = run_jobs(setup, trips, &jobs, Some(shared), threads, tick)?;
+    cal.unfinished += after.iter().filter(|r| r.is_none()).count();
+    let mut cal_t: BTreeMap<(usize, Level), f64> = BTreeMap::new();
+    for (j, r) in jobs.iter().zip(&after) {
+        if let Some(r) = r {
+            cal_t.insert((j.trip, j.level), *r);
+        }
+    }
+    for fit in &mut cal.fits {
+        let level = if fit.level == "interpolated" {
+            Level::Interpolated
+        } else {
+            Level::Discrete
+        };
+        let idx = &groups[&(fit.entity.clone(), level)];
+        for (set, slot) in [(true, &mut fit.fit_residuals), (false, &mut fit.held_out)] {
+            let (mut c, mut b, mut a) = (Vec::new(), Vec::new(), Vec::new());
+            for &i in idx.iter().filter(|&&i| trips[i].fit == set) {
+                if let (Some(ci), Some(&bi), Some(&ai)) =
+                    (concrete[i], uncal.get(&(i, level)), cal_t.get(&(i, level)))
+                {
+                    c.push(ci);
+                    b.push(bi);
+                    a.push(ai);
+                }
+            }
+            *slot = Residuals::of(&c, &b, &a);
+        }
+    }
+    for (i, t) in trips.iter().enumerate() {
+        let Some(c) = concrete[i] else { continue };
+        let (classes, bridge) = trips::coverage(setup, t);
+        let pick = |m: &BTreeMap<(usize, Level), f64>| {
+            m.iter()
+                .filter(|((k, _), _)| *k == i)
+                .map(|((_, l), v)| (l.name().to_owned(), *v))
+                .collect::<BTreeMap<String, f64>>()
+        };
+        cal.trips.push(TripRecord {
+            entity: entity_key(t.kind),
+            set: if t.fit { "fit" } else { "held_out" }.into(),
+            from: t.from.0,
+            to: t.to.0,
+            classes,
+            bridge,
+            features: feats[i],
+            concrete_s: c,
+            before_s: pick(&uncal),
+            after_s: pick(&cal_t),
+        });
+    }
+    Ok(cal)
+}
+
+/// Runs the jobs on `threads` threads; the arrival time of each, in order.
+pub(crate) fn run_jobs(
+    setup: &Setup,
+    trips: &[Trip],
+    jobs: &[Job],
+    calibration: Option<Arc<Calibration>>,
+    threads: usize,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Vec<Option<f64>>, CheckError> {
+    let out = par_map(
+        jobs,
+        threads,
+        |j| trips::run(setup, &trips[j.trip], j.level, calibration.clone()),
+        tick,
+    );
+    if out.len() != jobs.len() {
+        return Err(CheckError::Scenario {
+            scenario: "calibration".into(),
+            message: "a trip's run failed".into(),
+        });
+    }
+    // A trip whose body gave up (stalled) at some level has no time there: it is left out
+    // of the fit and the residuals (the file lists the trips that have every time).
+    Ok(out.into_iter().map(|r| r.ok().flatten()).collect())
+}

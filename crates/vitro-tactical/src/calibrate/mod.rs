@@ -1,0 +1,434 @@
+//! Calibration of the abstract levels from a concrete one: sample trips driven and walked at
+//! the concrete level over a scenario's own town fit a per-type timing model that the
+//! abstract levels then follow.
+//!
+//! # The model
+//!
+//! Every level plans the same track and speed profile ([`Track::plan_vehicle`],
+//! [`Track::plan_walk`]); the discrete level hops along the profile's times, the interpolated
+//! level follows its speeds. The concrete level is slower than the profile for reasons the
+//! profile does not model: the speed controller's lag when it pulls away and when it creeps
+//! to a stop, the pure-pursuit line through corners, grade feed-forward errors, a walker's
+//! turn on the spot. A trip's concrete time is fitted, per entity type and abstract level, as
+//!
+//! ```text
+//! T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m
+//! ```
+//!
+//! with `T_profile` the profile's time, `beta` the fixed cost of a start and a stop,
+//! `turn_rad` the sum of the path's heading changes at its vertices (radians) and `climb_m`
+//! the metres climbed ([`Features`]). A calibrated abstract level stretches the track's
+//! profile uniformly by `k = T / T_profile` (times × k, speeds ÷ k, k clamped to
+//! [[`STRETCH_MIN`], [`STRETCH_MAX`]]): the discrete level's hops then sum to the predicted
+//! time; the interpolated level, which has its own lag, is fitted against its own
+//! uncalibrated time (`T_physical × T_profile / T_interpolated`) so that its stretched run
+//! lands on the concrete time.
+//!
+//! A calibration is made for one map and terrain ([`site_fingerprint`]) and one type set
+//! ([`types_fingerprint`]); a scenario that names a calibration made for another is refused.
+
+pub mod evaluate;
+pub mod fit;
+pub mod trips;
+
+use crate::entity::Level;
+use crate::entity::discrete::NodeKind;
+use crate::entity::route::{Track, wrap_angle};
+use crate::types::TypeBook;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Smallest stretch a calibration applies to a profile.
+pub const STRETCH_MIN: f64 = 0.5;
+/// Largest stretch a calibration applies to a profile.
+pub const STRETCH_MAX: f64 = 3.0;
+/// Version of the calibration file format.
+pub const FORMAT: u32 = 1;
+
+/// Why a calibration cannot be read or used.
+#[derive(Debug, thiserror::Error)]
+pub enum CalibrationError {
+    /// The file could not be read.
+    #[error("cannot read the calibration {path}: {message}")]
+    Read {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// The file is not a calibration.
+    #[error("{path} is not a calibration file: {message}")]
+    Parse {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// The calibration was made on another map or terrain.
+    #[error(
+        "the calibration was made on another map or terrain (site fingerprint {found}, this scenario's is {expected}; calibration map {map}): run `vitro calibrate` on this scenario"
+    )]
+    OtherSite {
+        /// This scenario's fingerprint.
+        expected: String,
+        /// The calibration's.
+        found: String,
+        /// The calibration's map name.
+        map: String,
+    },
+    /// The calibration was made for another type set.
+    #[error(
+        "the calibration was made for another type set (types fingerprint {found}, this build's is {expected}): run `vitro calibrate` again"
+    )]
+    OtherTypes {
+        /// This build's fingerprint.
+        expected: String,
+        /// The calibration's.
+        found: String,
+    },
+    /// The file's format version is not this one's.
+    #[error("calibration format {found}, expected {FORMAT}")]
+    Format {
+        /// The file's version.
+        found: u32,
+    },
+}
+
+/// What a trip's time depends on, beyond its profile time.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Features {
+    /// The profile's time, seconds (the uncalibrated discrete estimate).
+    pub profile_s: f64,
+    /// Path length, metres.
+    pub length_m: f64,
+    /// Sum of the heading changes at the path's vertices, radians.
+    pub turn_rad: f64,
+    /// Metres climbed.
+    pub climb_m: f64,
+}
+
+impl Features {
+    /// The features of a planned track.
+    pub fn of(track: &Track) -> Self {
+        let pts = &track.pts;
+        let mut turn = 0.0;
+        let mut climb = 0.0;
+        let mut last: Option<f64> = None;
+        for w in pts.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            climb += (b[2] - a[2]).max(0.0);
+            if libm::hypot(b[0] - a[0], b[1] - a[1]) < 1e-6 {
+                continue;
+            }
+            let h = libm::atan2(b[1] - a[1], b[0] - a[0]);
+            if let Some(h0) = last {
+                turn += wrap_angle(h - h0).abs();
+            }
+            last = Some(h);
+        }
+        Features {
+            profile_s: track.duration(),
+            length_m: track.length(),
+            turn_rad: turn,
+            climb_m: climb,
+        }
+    }
+
+    /// The regressors of the model: profile time, 1, turn, climb.
+    pub fn row(&self) -> [f64; 4] {
+        [self.profile_s, 1.0, self.turn_rad, self.climb_m]
+    }
+}
+
+/// One fitted model: an entity type at an abstract level against the concrete level.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Fit {
+    /// The entity type: a vehicle type key (`car`, `cargo_truck`, `mdars`) or a trooper
+    /// type key with `_trooper` (`blue_trooper`, `red_trooper`, `vip_trooper`).
+    pub entity: String,
+    /// The abstract level the fit is for.
+    pub level: String,
+    /// The concrete level it predicts.
+    pub concrete: String,
+    /// Seconds of concrete time per second of profile time.
+    pub alpha: f64,
+    /// Seconds per trip (a start and a stop).
+    pub beta: f64,
+    /// Seconds per radian of heading change.
+    pub kappa: f64,
+    /// Seconds per metre climbed.
+    pub gamma: f64,
+    /// Trips fitted.
+    pub trips: usize,
+    /// Residuals on the fitted trips (abstract level without / with calibration against the
+    /// concrete level).
+    pub fit_residuals: Residuals,
+    /// Residuals on held-out trips, measured by running the calibrated abstract level.
+    pub held_out: Residuals,
+}
+
+/// How far an abstract level's trip times are from the concrete level's.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Residuals {
+    /// Trips.
+    pub n: usize,
+    /// Mean relative error without calibration, % (signed: negative = optimistic).
+    pub bias_pct_before: f64,
+    /// Mean absolute relative error without calibration, %.
+    pub mape_pct_before: f64,
+    /// Root mean square error without calibration, seconds.
+    pub rmse_s_before: f64,
+    /// Mean relative error with calibration, % (signed).
+    pub bias_pct_after: f64,
+    /// Mean absolute relative error with calibration, %.
+    pub mape_pct_after: f64,
+    /// Root mean square error with calibration, seconds.
+    pub rmse_s_after: f64,
+    /// Largest absolute relative error with calibration, %.
+    pub max_pct_after: f64,
+}
+
+impl Residuals {
+    /// The residuals of `before` and `after` against `concrete` (paired, seconds).
+    pub fn of(concrete: &[f64], before: &[f64], after: &[f64]) -> Self {
+        let n = concrete.len().min(before.len()).min(after.len());
+        if n == 0 {
+            return Residuals::default();
+        }
+        let stats = |pred: &[f64]| {
+            let (mut bias, mut abs, mut sq, mut max) = (0.0, 0.0, 0.0, 0.0f64);
+            for (c, p) in concrete.iter().zip(pred) {
+                let rel = 100.0 * (p - c) / c.max(1e-9);
+                bias += rel;
+                abs += rel.abs();
+                max = max.max(rel.abs());
+                sq += (p - c) * (p - c);
+            }
+            let n = n as f64;
+            (bias / n, abs / n, libm::sqrt(sq / n), max)
+        };
+        let b = stats(before);
+        let a = stats(after);
+        Residuals {
+            n,
+            bias_pct_before: b.0,
+            mape_pct_before: b.1,
+            rmse_s_before: b.2,
+            bias_pct_after: a.0,
+            mape_pct_after: a.1,
+            rmse_s_after: a.2,
+            max_pct_after: a.3,
+        }
+    }
+}
+
+/// One sample trip and its times at each level.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TripRecord {
+    /// The entity type (as in [`Fit::entity`]).
+    pub entity: String,
+    /// `fit` (used by the fit) or `held_out` (evaluation only).
+    pub set: String,
+    /// Start node (drive or walk graph).
+    pub from: u32,
+    /// Goal node.
+    pub to: u32,
+    /// The street classes the path uses, `+` separated.
+    pub classes: String,
+    /// True if the path crosses a bridge.
+    pub bridge: bool,
+    /// Its features.
+    pub features: Features,
+    /// Concrete level's time, seconds.
+    pub concrete_s: f64,
+    /// Each abstract level's time without calibration, seconds (by level name).
+    pub before_s: std::collections::BTreeMap<String, f64>,
+    /// Each abstract level's time with calibration, seconds (by level name; measured runs).
+    pub after_s: std::collections::BTreeMap<String, f64>,
+}
+
+/// A calibration file: the fits and the trips they came from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Calibration {
+    /// Format version ([`FORMAT`]).
+    pub format: u32,
+    /// The model, in words.
+    pub model: String,
+    /// The scenario it was made from, as named.
+    pub scenario: String,
+    /// The map's file name.
+    pub map: String,
+    /// Fingerprint of the map, the terrain and the offset ([`site_fingerprint`]).
+    pub site_fingerprint: String,
+    /// Fingerprint of the type set ([`types_fingerprint`]).
+    pub types_fingerprint: String,
+    /// The concrete level.
+    pub from: String,
+    /// Seed of the trip sample.
+    pub seed: u64,
+    /// Wall-clock seconds `vitro calibrate` took (information only).
+    pub wall_s: f64,
+    /// Runs that did not reach their goal (a body that stalled): their trips are left out.
+    #[serde(default)]
+    pub unfinished: usize,
+    /// The fits, one per (entity type, abstract level).
+    #[serde(rename = "fit")]
+    pub fits: Vec<Fit>,
+    /// The sample trips.
+    #[serde(rename = "trip", default)]
+    pub trips: Vec<TripRecord>,
+}
+
+/// The calibration's entity key of a node-level body kind.
+pub fn entity_key(kind: NodeKind) -> String {
+    match kind {
+        NodeKind::Ground(k) => k.key().to_owned(),
+        NodeKind::Troop(k) => format!("{}_trooper", k.key()),
+    }
+}
+
+impl Calibration {
+    /// Reads a calibration file.
+    pub fn read(path: &Path) -> Result<Self, CalibrationError> {
+        let text = std::fs::read_to_string(path).map_err(|e| CalibrationError::Read {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        Self::parse(&text).map_err(|message| CalibrationError::Parse {
+            path: path.display().to_string(),
+            message,
+        })
+    }
+
+    /// Parses a calibration from TOML.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let c: Calibration = toml::from_str(text).map_err(|e| e.to_string())?;
+        if c.format != FORMAT {
+            return Err(CalibrationError::Format { found: c.format }.to_string());
+        }
+        for f in &c.fits {
+            let ok = [f.alpha, f.beta, f.kappa, f.gamma]
+                .iter()
+                .all(|x| x.is_finite());
+            if !ok {
+                return Err(format!(
+                    "fit {} at {}: a parameter is not finite",
+                    f.entity, f.level
+                ));
+            }
+        }
+        Ok(c)
+    }
+
+    /// The file's text: a header comment, then the TOML.
+    pub fn to_toml(&self) -> Result<String, String> {
+        let body = toml::to_string(self).map_err(|e| e.to_string())?;
+        Ok(format!(
+            "# Vitro calibration: the abstract levels' trip times fitted to the {} level.\n\
+             # Model, per entity type and abstract level:\n\
+             #   T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m\n\
+             # A scenario uses it with `[fidelity] calibration = \"FILE\"` (same map, terrain\n\
+             # and type set only). Residuals: % of the concrete time (bias signed, negative =\n\
+             # the abstract level is optimistic); held_out: trips not used by the fit.\n\n{body}",
+            self.from
+        ))
+    }
+
+    /// Refuses a calibration made for another site or type set.
+    pub fn check(&self, site: &str, types: &str) -> Result<(), CalibrationError> {
+        if self.site_fingerprint != site {
+            return Err(CalibrationError::OtherSite {
+                expected: site.to_owned(),
+                found: self.site_fingerprint.clone(),
+                map: self.map.clone(),
+            });
+        }
+        if self.types_fingerprint != types {
+            return Err(CalibrationError::OtherTypes {
+                expected: types.to_owned(),
+                found: self.types_fingerprint.clone(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The fit of `entity` at `level`, if any.
+    pub fn fit(&self, entity: &str, level: Level) -> Option<&Fit> {
+        self.fits
+            .iter()
+            .find(|f| f.entity == entity && f.level == level.name())
+    }
+
+    /// The stretch of a track of `kind` at `level` ([`Fit::predict`] over the profile time),
+    /// or `None` where there is no fit.
+    pub fn stretch(&self, kind: NodeKind, level: Level, track: &Track) -> Option<f64> {
+        let fit = self.fit(&entity_key(kind), level)?;
+        let f = Features::of(track);
+        if f.profile_s <= 0.0 {
+            return None;
+        }
+        Some((fit.predict(&f) / f.profile_s).clamp(STRETCH_MIN, STRETCH_MAX))
+    }
+}
+
+impl Fit {
+    /// The predicted concrete time of a trip with features `f`, seconds.
+    pub fn predict(&self, f: &Features) -> f64 {
+        let r = f.row();
+        self.alpha * r[0] + self.beta * r[1] + self.kappa * r[2] + self.gamma * r[3]
+    }
+}
+
+/// `track` with its profile stretched by `k`: times × k, speeds ÷ k.
+pub fn stretched(track: &Track, k: f64) -> Track {
+    let mut t = track.clone();
+    for x in &mut t.t {
+        *x *= k;
+    }
+    for v in &mut t.v {
+        *v /= k;
+    }
+    for l in &mut t.limit {
+        *l /= k;
+    }
+    t
+}
+
+/// FNV-1a, 64 bits.
+fn fnv(mut h: u64, bytes: &[u8]) -> u64 {
+    for b in bytes {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// Fingerprint of a site: the map's and the terrain's bytes and the offset.
+pub fn site_fingerprint(
+    map: &Path,
+    terrain: &Path,
+    offset: Option<[f64; 2]>,
+) -> Result<String, CalibrationError> {
+    let read = |p: &Path| {
+        std::fs::read(p).map_err(|e| CalibrationError::Read {
+            path: p.display().to_string(),
+            message: e.to_string(),
+        })
+    };
+    let mut h = fnv(FNV_OFFSET, &read(map)?);
+    h = fnv(h, &read(terrain)?);
+    for x in offset.unwrap_or([0.0; 2]) {
+        h = fnv(h, &x.to_bits().to_le_bytes());
+    }
+    Ok(format!("{h:016x}"))
+}
+
+/// Fingerprint of a type set (its parameters as TOML).
+pub fn types_fingerprint(types: &TypeBook) -> String {
+    let text = toml::to_string(types).unwrap_or_default();
+    format!("{:016x}", fnv(FNV_OFFSET, text.as_bytes()))
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,79 @@
+use super::fit::least_squares;
+use super::*;
+
+fn sample() -> Calibration {
+    Calibration {
+        format: FORMAT,
+        model: "m".into(),
+        scenario: "s.toml".into(),
+        map: "town.osm.pbf".into(),
+        site_fingerprint: "00000000000000aa".into(),
+        types_fingerprint: types_fingerprint(TypeBook::builtin()),
+        from: "physical".into(),
+        seed: 3,
+        wall_s: 1.5,
+        unfinished: 0,
+        fits: vec![Fit {
+            entity: "cargo_truck".into(),
+            level: "discrete".into(),
+            concrete: "physical".into(),
+            alpha: 1.1,
+            beta: 4.0,
+            kappa: 0.5,
+            gamma: 0.01,
+            trips: 3,
+            fit_residuals: Residuals::of(&[10.0, 20.0], &[9.0, 18.0], &[10.5, 19.0]),
+            held_out: Residuals::default(),
+        }],
+        trips: vec![],
+    }
+}
+
+#[test]
+fn a_calibration_survives_the_round_trip() {
+    let c = sample();
+    let text = c.to_toml().unwrap();
+    assert!(text.starts_with("# Vitro calibration"));
+    assert_eq!(Calibration::parse(&text).unwrap(), c);
+}
+
+#[test]
+fn another_site_or_type_set_is_refused() {
+    let c = sample();
+    let types = types_fingerprint(TypeBook::builtin());
+    assert!(c.check("00000000000000aa", &types).is_ok());
+    let e = c.check("00000000000000bb", &types).unwrap_err();
+    assert!(e.to_string().contains("another map"), "{e}");
+    let e = c.check("00000000000000aa", "0").unwrap_err();
+    assert!(e.to_string().contains("another type set"), "{e}");
+}
+
+#[test]
+fn least_squares_recovers_a_linear_model() {
+    let truth = [1.2, 5.0, 0.8, 0.05];
+    let x: Vec<[f64; 4]> = (0..20)
+        .map(|i| {
+            let i = i as f64;
+            [30.0 + 7.0 * i, 1.0, (i * 1.7) % 5.0, (i * 3.1) % 11.0]
+        })
+        .collect();
+    let y: Vec<f64> = x
+        .iter()
+        .map(|r| (0..4).map(|j| r[j] * truth[j]).sum())
+        .collect();
+    let p = least_squares(&x, &y, [1.0, 0.0, 0.0, 0.0]);
+    for j in 0..4 {
+        assert!(
+            (p[j] - truth[j]).abs() < 0.05 * truth[j].abs() + 0.05,
+            "{p:?}"
+        );
+    }
+}
+
+#[test]
+fn residuals_are_signed_relative_errors() {
+    let r = Residuals::of(&[100.0, 200.0], &[80.0, 160.0], &[100.0, 210.0]);
+    assert!((r.bias_pct_before + 20.0).abs() < 1e-9);
+    assert!((r.mape_pct_after - 2.5).abs() < 1e-9);
+    assert!((r.max_pct_after - 5.0).abs() < 1e-9);
+}
