@@ -6,7 +6,7 @@ extraction per level, as a Markdown table (and the raw rows as CSV). With `--unt
     cargo build --release -p vitro-cli
     python3 scripts/fidelity_table.py [--seeds 100] [--levels discrete,interpolated,physical]
                                       [--jobs 2] [--until 900] [--out docs/fidelity.csv]
-                                      [--calibration scenarios/evacuation.calibration.toml]
+                                      [--calibration scenarios/calibration/evacuation.toml]
 
 Each run is `vitro run scenarios/evacuation.toml --json --seed S --fidelity LEVEL --until T`; seeds
 are 1..N, so any row can be re-run alone. With `--calibration FILE` the scenario is run with
