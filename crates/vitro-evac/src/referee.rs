@@ -92,6 +92,9 @@ pub struct Metrics {
     /// Attacks started on a misread state: some Skeldar was not at the vertex and phase the
     /// attacker believed (its phase from its own sightings of the truck).
     pub patrol_attacks_misread: u64,
+    /// Re-solves of the patrol game, over the Skeldars: the truck ran off its timetable and
+    /// the game of the rest of the trip was solved again from where it was.
+    pub patrol_resolves: u64,
     /// Events fired.
     pub events: u64,
     /// Simulated time at the end, seconds.

@@ -71,11 +71,13 @@
 
 use crate::brief::Brief;
 use crate::error::MissionError;
-use board::{Board, project, targets};
+use board::{Board, project};
 use rand::Rng;
+use resolve::{Frame, Spec, assemble};
+pub use resolve::{MAX_RESOLVES, RESOLVE_GAP_STEPS};
 use serde::{Deserialize, Serialize};
 use std::sync::{Arc, Mutex};
-use steps::{CaptureTable, StepKind, StepLog, capture_table};
+use steps::{CaptureTable, StepKind, StepLog};
 use vitro_algo::graph::{Graph, NodeId};
 use vitro_algo::patrol::{PatrolPlan, PlanParams, Target};
 use vitro_site::geo::{P2, dist};
@@ -83,6 +85,7 @@ use vitro_tactical::types::TypeBook;
 
 pub mod attack;
 mod board;
+mod resolve;
 pub mod steps;
 
 pub use board::REACH_SHARE;
@@ -126,6 +129,8 @@ pub struct PatrolGame {
     targets: Vec<Target>,
     /// Per unit, target and phase: the capture probability from each of its states.
     capture: CaptureTable,
+    /// What it was solved with (a re-solve uses the same).
+    spec: Spec,
 }
 
 impl PatrolGame {
@@ -152,35 +157,23 @@ impl PatrolGame {
             reach_m,
         } = Board::new(brief, types)?;
         let p = &brief.patrol;
-        let targets = targets(&graph, &trip, p.horizon as usize, p.attack_steps).map_err(setup)?;
-        let iterations = p.iterations as usize;
-        let plan = solve(graph, targets.clone(), units.max(1), iterations, seed).map_err(setup)?;
-        let capture = capture_table(&plan, &targets).map_err(setup)?;
-        let trip_capture_probability = plan
-            .threats
-            .iter()
-            .filter(|t| t.phase < timetable.len())
-            .map(|t| t.capture_probability)
-            .fold(1.0, f64::min);
-        let occupancy = (0..plan.units())
-            .map(|u| occupancy(&plan, u))
-            .collect::<Result<_, _>>()
-            .map_err(setup)?;
+        let spec = Spec {
+            ahead: p.horizon as usize,
+            attack_steps: p.attack_steps,
+            units: units.max(1),
+            iterations: p.iterations as usize,
+            seed,
+        };
         let points = town.iter().map(|&p| brief.site.on_ground(p)).collect();
-        Ok(PatrolGame {
+        let frame = Frame {
             points,
-            timetable,
-            trip,
-            plan,
-            trip_capture_probability,
+            graph,
             step_s: brief.patrol.step_s,
             reach_m,
             route,
             along,
-            occupancy,
-            targets,
-            capture,
-        })
+        };
+        assemble(frame, timetable, trip, spec).map_err(setup)
     }
 
     /// The last phase of the trip (the convoy at the extraction point).
@@ -294,6 +287,20 @@ pub struct PatrolUnit {
     pub rejoins: u64,
     /// Every step it took (the umpire's record, for the attacks' verdicts).
     pub log: Vec<StepLog>,
+    /// Times it re-solved the game ([`PatrolUnit::resolve`]).
+    #[serde(default)]
+    pub resolves: u64,
+    /// The step of the mission's timetable its game starts at: 0, or where its last
+    /// re-solve re-timed the trip from.
+    #[serde(default)]
+    pub offset: usize,
+    /// Its step count ([`PatrolUnit::log`]'s length) at its last re-solve.
+    #[serde(default)]
+    last_resolve: Option<usize>,
+    /// The game it plays after a re-solve (rebuilt from `game` and `offset` after a
+    /// snapshot is restored).
+    #[serde(skip)]
+    current: Option<Arc<PatrolGame>>,
 }
 
 impl PatrolUnit {
@@ -308,6 +315,10 @@ impl PatrolUnit {
             holds: 0,
             rejoins: 0,
             log: Vec::new(),
+            resolves: 0,
+            offset: 0,
+            last_resolve: None,
+            current: None,
         }
     }
 
@@ -333,6 +344,7 @@ impl PatrolUnit {
             at: self.at,
             phase: self.phase,
             kind,
+            plan: self.offset,
         });
         next
     }
@@ -344,16 +356,21 @@ impl PatrolUnit {
         rng: &mut R,
     ) -> Option<(NodeId, StepKind)> {
         let pos = truck?;
-        self.progress = self.game.progress(pos, self.progress);
-        let plan = &self.game.plan;
+        let game = self.playing();
+        self.progress = game.progress(pos, self.progress);
         let Some(at) = self.at else {
-            let phase = self.game.lock(0, self.progress).unwrap_or(0);
-            let fallback = self.game.trip.get(phase).copied().unwrap_or(0);
-            let v = plan.start_vertex(self.unit, phase, rng).unwrap_or(fallback);
+            let phase = game.lock(0, self.progress).unwrap_or(0);
+            let fallback = game.trip.get(phase).copied().unwrap_or(0);
+            let v = game
+                .plan
+                .start_vertex(self.unit, phase, rng)
+                .unwrap_or(fallback);
             (self.at, self.phase) = (Some(v), phase);
             return Some((v, StepKind::Policy));
         };
-        let phase = self.game.lock(self.phase, self.progress)?;
+        let game = self.resolve(game);
+        let plan = &game.plan;
+        let phase = game.lock(self.phase, self.progress)?;
         let from = phase - 1;
         let on_policy = plan
             .policies
@@ -490,25 +507,23 @@ mod tests {
         let graph = Graph::from_edges(8, &edges).unwrap();
         let timetable = vec![0.0, 100.0, 300.0, 300.0, 300.0, 500.0, 700.0];
         let trip: Vec<NodeId> = timetable.iter().map(|s| (s / 100.0) as usize).collect();
-        let targets = targets(&graph, &trip, 1, 2).unwrap();
-        let plan = solve(graph, targets.clone(), 1, 5, 0).unwrap();
-        let capture = capture_table(&plan, &targets).unwrap();
         let route: Vec<P2> = (0..8).map(|i| [100.0 * f64::from(i), 0.0]).collect();
-        let occupancy = vec![occupancy(&plan, 0).unwrap()];
-        PatrolGame {
+        let frame = Frame {
             points: route.iter().map(|p| [p[0], p[1], 0.0]).collect(),
-            timetable,
-            trip,
-            trip_capture_probability: plan.capture_probability,
-            plan,
+            graph,
             step_s: 20.0,
             reach_m: 200.0,
             along: route.iter().map(|p| p[0]).collect(),
             route,
-            occupancy,
-            targets,
-            capture,
-        }
+        };
+        let spec = Spec {
+            ahead: 1,
+            attack_steps: 2,
+            units: 1,
+            iterations: 5,
+            seed: 0,
+        };
+        assemble(frame, timetable, trip, spec).unwrap()
     }
 
     #[test]
@@ -550,18 +565,24 @@ mod tests {
         let mut unit = PatrolUnit::new(g.clone(), 0);
         let mut at = None;
         for &x in &truck {
-            let before = unit.phase;
+            let (before, resolves) = (unit.phase, unit.resolves);
             if let Some(next) = unit.step(Some([x, 0.0]), 0.0, &mut rng) {
                 if let Some(a) = at {
                     assert!(a == next || g.plan.graph.has_edge(a, next), "{a} -> {next}");
                 }
                 at = Some(next);
             }
-            assert!(unit.phase >= before);
+            // The phase goes forward, or starts again with a re-solve.
+            assert!(unit.phase >= before || unit.resolves > resolves);
             assert_eq!(unit.at, at);
         }
-        assert_eq!(unit.phase, g.last_phase());
-        assert!(unit.holds >= 2, "held {} times", unit.holds);
+        assert_eq!(unit.phase, unit.game_now().last_phase());
+        assert!(
+            unit.holds + unit.resolves >= 2,
+            "held {} times, re-solved {} times",
+            unit.holds,
+            unit.resolves
+        );
         // No track of the truck: stay.
         assert_eq!(unit.step(None, 0.0, &mut rng), None);
     }

@@ -1,0 +1,257 @@
+//! The receding-horizon re-solve: when the truck runs off its timetable, the patrol game of
+//! the rest of the trip, re-timed from where the truck is now, solved again
+//! ([`PatrolGame::retimed`]), and the Skeldar's switch to it ([`PatrolUnit::resolve`]).
+//! See the parent module's docs for when the guarantee holds after a re-solve.
+
+use super::board::targets;
+use super::steps::capture_table;
+use super::{PatrolGame, PatrolUnit, occupancy, solve};
+use std::sync::Arc;
+use vitro_algo::graph::{Graph, NodeId};
+use vitro_site::geo::P2;
+
+/// Most re-solves a Skeldar makes in a mission (each costs a solve; see the parent module's
+/// docs for the measured cost).
+pub const MAX_RESOLVES: u64 = 6;
+/// Fewest patrol steps between two re-solves of a Skeldar, beyond the game's attack length:
+/// a re-solve is not repeated while the truck is still catching up with the last one.
+pub const RESOLVE_GAP_STEPS: usize = 1;
+
+/// What a game is solved with, besides its timetable.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Spec {
+    /// Steps the second target runs ahead of the convoy (0: the convoy alone).
+    pub ahead: usize,
+    /// Steps an attack takes.
+    pub attack_steps: u32,
+    /// Plan units (Skeldars).
+    pub units: usize,
+    /// LP iterations per local search.
+    pub iterations: usize,
+    /// The solver's seed.
+    pub seed: u64,
+}
+
+/// The parts of a game that do not depend on its timetable.
+pub(super) struct Frame {
+    /// The checkpoints, world points on the ground.
+    pub points: Vec<[f64; 3]>,
+    /// The patrol graph.
+    pub graph: Graph,
+    /// Seconds per step.
+    pub step_s: f64,
+    /// The longest edge, metres.
+    pub reach_m: f64,
+    /// The route's nodes, town metres.
+    pub route: Vec<P2>,
+    /// Distance along the route at each route node, metres.
+    pub along: Vec<f64>,
+}
+
+/// Makes and solves the game of the convoy's `timetable` (its vertex at each step: `trip`)
+/// on `frame`.
+pub(super) fn assemble(
+    frame: Frame,
+    timetable: Vec<f64>,
+    trip: Vec<NodeId>,
+    spec: Spec,
+) -> Result<PatrolGame, String> {
+    let Frame {
+        points,
+        graph,
+        step_s,
+        reach_m,
+        route,
+        along,
+    } = frame;
+    let targets = targets(&graph, &trip, spec.ahead, spec.attack_steps)?;
+    let plan = solve(
+        graph,
+        targets.clone(),
+        spec.units,
+        spec.iterations,
+        spec.seed,
+    )?;
+    let capture = capture_table(&plan, &targets)?;
+    let trip_capture_probability = plan
+        .threats
+        .iter()
+        .filter(|t| t.phase < timetable.len())
+        .map(|t| t.capture_probability)
+        .fold(1.0, f64::min);
+    let occupancy = (0..plan.units())
+        .map(|u| occupancy(&plan, u))
+        .collect::<Result<_, _>>()?;
+    Ok(PatrolGame {
+        points,
+        timetable,
+        trip,
+        plan,
+        trip_capture_probability,
+        step_s,
+        reach_m,
+        route,
+        along,
+        occupancy,
+        targets,
+        capture,
+        spec,
+    })
+}
+
+impl PatrolGame {
+    /// Where the re-timed trip of a truck `s` metres along the route starts: the step of the
+    /// timetable nearest it (of a wait there, the first: the wait is taken in full again).
+    pub fn retime_index(&self, s: f64) -> usize {
+        let mut best = (f64::INFINITY, 0);
+        for (k, &x) in self.timetable.iter().enumerate() {
+            let d = (x - s).abs();
+            if d < best.0 - 1e-9 {
+                best = (d, k);
+            }
+        }
+        best.1
+    }
+
+    /// The game of the rest of the trip from step `from` of this game's timetable, re-timed
+    /// to start now (its phase 0 is this game's phase `from`), solved as this one was (the
+    /// same graph, targets, units, iterations and seed; a game this process solved already
+    /// is not solved again); `None` if fewer than an attack's steps of the trip are left.
+    ///
+    /// # Errors
+    /// The solver's, as text.
+    pub fn retimed(&self, from: usize) -> Result<Option<PatrolGame>, String> {
+        let last = self.last_phase();
+        if from + self.attack_steps() >= last {
+            return Ok(None);
+        }
+        let frame = Frame {
+            points: self.points.clone(),
+            graph: self.plan.graph.clone(),
+            step_s: self.step_s,
+            reach_m: self.reach_m,
+            route: self.route.clone(),
+            along: self.along.clone(),
+        };
+        let timetable = self.timetable[from..].to_vec();
+        let trip = self.trip[from..].to_vec();
+        assemble(frame, timetable, trip, self.spec).map(Some)
+    }
+
+    /// Whether a Skeldar at `phase`, the truck `s` metres along the route, is off the
+    /// timetable beyond [`LOCK_TOLERANCE_M`](super::LOCK_TOLERANCE_M): the lock holds it (the truck late) or skips a
+    /// phase (early). At or past the end of the trip nothing deviates.
+    pub fn deviates(&self, phase: usize, s: f64) -> bool {
+        phase < self.last_phase()
+            && match self.lock(phase, s) {
+                None => true,
+                Some(next) => next > phase + 1,
+            }
+    }
+}
+
+impl PatrolUnit {
+    /// The game it plays now: the mission's, or its last re-solve (rebuilt, from the
+    /// process's solved games, after a snapshot is restored).
+    pub fn playing(&mut self) -> Arc<PatrolGame> {
+        if self.offset > 0 && self.current.is_none() {
+            self.current = self.game.retimed(self.offset).ok().flatten().map(Arc::new);
+        }
+        self.current.clone().unwrap_or_else(|| self.game.clone())
+    }
+
+    /// The game it plays now, if it has it (see [`PatrolUnit::playing`]).
+    pub fn game_now(&self) -> &PatrolGame {
+        self.current.as_deref().unwrap_or(&self.game)
+    }
+
+    /// Re-solves if the truck's progress is off the schedule of the game it plays (see
+    /// [`PatrolGame::deviates`]), it has re-solves left ([`MAX_RESOLVES`]) and the last one
+    /// is at least an attack and [`RESOLVE_GAP_STEPS`] steps back: the mission's game of
+    /// the rest of the trip, re-timed from where the truck is now, its phase 0 now. Returns
+    /// the game it plays from now on.
+    pub fn resolve(&mut self, playing: Arc<PatrolGame>) -> Arc<PatrolGame> {
+        let gap = playing.attack_steps() + RESOLVE_GAP_STEPS;
+        let due = self.last_resolve.is_none_or(|l| self.log.len() >= l + gap);
+        if !due || self.resolves >= MAX_RESOLVES || !playing.deviates(self.phase, self.progress) {
+            return playing;
+        }
+        let from = self.game.retime_index(self.progress);
+        let Ok(Some(game)) = self.game.retimed(from) else {
+            return playing;
+        };
+        let game = Arc::new(game);
+        self.current = Some(game.clone());
+        self.offset = from;
+        self.phase = 0;
+        self.resolves += 1;
+        self.last_resolve = Some(self.log.len());
+        game
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::steps::StepKind;
+    use super::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    #[test]
+    fn a_late_truck_re_solves_the_rest_of_the_trip_from_where_it_is() {
+        // The test game: timetable 0, 100, 300 (a wait of three steps), 500, 700 metres.
+        let g = Arc::new(super::super::tests::game());
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut unit = PatrolUnit::new(g.clone(), 0);
+        // On time to 100 m, then the truck stays there.
+        for x in [0.0, 100.0] {
+            unit.step(Some([x, 0.0]), 0.0, &mut rng);
+        }
+        assert_eq!(unit.resolves, 0);
+        let mut steps = 0;
+        while unit.resolves == 0 {
+            let at = unit.at.expect("started");
+            unit.step(Some([100.0, 0.0]), 0.0, &mut rng);
+            steps += 1;
+            assert!(steps < 5, "no re-solve");
+            if unit.resolves == 1 {
+                // Re-timed from the step of the timetable where the truck is (100 m): the
+                // rest of the trip, its phase 0 now, and the step drawn from the new policy
+                // at phase 0 from the Skeldar's checkpoint (or towards it, off its support).
+                let new = unit.game_now();
+                assert_eq!(unit.offset, 1);
+                assert_eq!(new.timetable, g.timetable[1..]);
+                assert_eq!(new.trip, g.trip[1..]);
+                assert_eq!(new.trip[0], 1, "the convoy's checkpoint now");
+                let e = *unit.log.last().expect("a step");
+                assert_eq!((e.plan, e.phase), (1, 1));
+                let on = new.plan.policies[0].moves_at(at, 0).is_some();
+                assert_eq!(e.kind == StepKind::Policy, on, "{e:?} from {at}");
+                assert!(on || e.kind == StepKind::Rejoin);
+                let next = e.at.expect("a checkpoint");
+                assert!(next == at || g.plan.graph.has_edge(at, next));
+                // Its capture probability is the new game's.
+                let p = new.trip_capture_probability;
+                assert!(p > 0.0 && p <= 1.0);
+            }
+        }
+        // Still late: no second re-solve within an attack's steps and the gap.
+        for _ in 0..g.attack_steps() {
+            unit.step(Some([100.0, 0.0]), 0.0, &mut rng);
+        }
+        assert_eq!(unit.resolves, 1);
+        // Never more than the bound, however late.
+        for _ in 0..40 {
+            unit.step(Some([100.0, 0.0]), 0.0, &mut rng);
+        }
+        assert!(unit.resolves > 1 && unit.resolves <= MAX_RESOLVES);
+        // On time: no re-solve at all.
+        let mut on_time = PatrolUnit::new(g.clone(), 0);
+        for x in [0.0, 100.0, 300.0, 300.0, 300.0, 500.0, 700.0] {
+            on_time.step(Some([x, 0.0]), 0.0, &mut rng);
+        }
+        assert_eq!((on_time.resolves, on_time.offset), (0, 0));
+        // Too little of the trip left to re-solve.
+        assert!(g.retimed(g.last_phase() - 1).unwrap().is_none());
+    }
+}
