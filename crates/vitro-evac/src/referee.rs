@@ -63,7 +63,8 @@ pub struct Metrics {
     /// Shots fired by the adversaries.
     pub shots: u64,
     /// The patrol game's least capture probability over the attacks of the trip, as
-    /// computed when the mission was built (absent without a Skeldar).
+    /// computed when the mission was built, and after a re-solve the least of that and the
+    /// last re-solved game's over the rest of the trip (absent without a Skeldar).
     pub patrol_capture_probability: Option<f64>,
     /// Share of the escort (the truck on its way, until the VIP is out) during which a
     /// Skeldar was within the cover radius of the truck (horizontally; absent without a

@@ -65,10 +65,11 @@
 //! was not sent hunting; (3) the attack ends by the extraction point (the mission never
 //! plays the timetable's fictional return). The report counts the attacks for which (1) and
 //! (2) held (`patrol_attacks_on_schedule`). Outside them the patrol still runs (holding or
-//! skipping ahead, as above) but the number is not a guarantee: the plan is not re-solved
-//! from the current state when the truck deviates (a receding-horizon re-solve is not
-//! implemented).
-
+//! skipping ahead, as above, or re-solving, below) but the number is not a guarantee.
+//!
+//! When the truck runs off its timetable beyond the tolerance, the Skeldar re-solves the
+//! game of the rest of the trip from where the truck is ([`resolve`], which also states when
+//! the guarantee holds after a re-solve: the attacker is not told the new policy).
 use crate::brief::Brief;
 use crate::error::MissionError;
 use board::{Board, project};
@@ -85,7 +86,7 @@ use vitro_tactical::types::TypeBook;
 
 pub mod attack;
 mod board;
-mod resolve;
+pub mod resolve;
 pub mod steps;
 
 pub use board::REACH_SHARE;

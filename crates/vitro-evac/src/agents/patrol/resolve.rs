@@ -1,7 +1,50 @@
 //! The receding-horizon re-solve: when the truck runs off its timetable, the patrol game of
 //! the rest of the trip, re-timed from where the truck is now, solved again
 //! ([`PatrolGame::retimed`]), and the Skeldar's switch to it ([`PatrolUnit::resolve`]).
-//! See the parent module's docs for when the guarantee holds after a re-solve.
+//!
+//! When a Skeldar's believed truck progress (from the truck's radio position reports, as
+//! for the lock) is off its game's timetable beyond
+//! [`LOCK_TOLERANCE_M`](super::LOCK_TOLERANCE_M) — the lock would hold it (late) or skip a
+//! phase (early), [`PatrolGame::deviates`] — it re-solves: the mission's game of the rest
+//! of the trip, re-timed from the step of the timetable nearest where the truck is (of a
+//! wait's equal steps, the one nearest the Skeldar's phase: a truck late to the pickup
+//! takes the wait in full, one late to leave it is taken to leave now), the same graph,
+//! targets, units, LP iterations and seed ([`PatrolGame::retimed`]). Its phase 0 is now;
+//! the Skeldar's checkpoint is where it starts: its next move is drawn from the new policy
+//! at phase 0 from that checkpoint, or, if the new policy never has it there, is a rejoin
+//! step towards the new policy's checkpoints. The re-solve is bounded: at most
+//! [`MAX_RESOLVES`] per Skeldar, at least the attack's steps and [`RESOLVE_GAP_STEPS`]
+//! apart, none with less than an attack's steps of the trip left (then it holds or skips as
+//! before). It is the full game of the remaining trip, not a shorter horizon: its cost
+//! falls with the trip left. Measured on the default scenario (`cargo run -p vitro-evac
+//! [--release] --example patrol_resolve_cost`, one core of the 2-core development machine,
+//! each of the 21 possible re-timings solved once): debug build 0.04–10.4 s, mean 2.0 s;
+//! release build: see the crate's commit message / the lead's notes (the solve is about 10×
+//! faster). Its wall time is reported by that example only, not charged to the simulated
+//! Skeldar (the step it re-solves at is a normal patrol step); a process solves each
+//! re-timing once (the runs of a batch share them). The metric `patrol_resolves` counts the
+//! re-solves; `patrol_capture_probability` becomes the least of the mission's game's and
+//! the last re-solved game's capture probability over its trip; the Skeldar's intention
+//! shows the game it plays.
+//!
+//! **When the guarantee holds after a re-solve.** The re-solved game's capture probability
+//! of an attack is exact under the same three conditions as the mission's game (see the
+//! parent module), read on the new game: (1) the attacker read the state in the *new* game
+//! (every Skeldar at the vertex and new phase it believed, with the new policy in hand);
+//! (2) through the attack's steps every Skeldar drew from the new policy (no hold, skip,
+//! rejoin — the step right after a re-solve is a rejoin when the Skeldar's checkpoint is
+//! off the new policy's support — and no further re-solve in the window); (3) the attack
+//! ends by the extraction point. An attack whose window spans a re-solve is off schedule.
+//! **The attacker is not told the new policy**: it was briefed once, with the mission's
+//! game, and keeps it (it is not given the re-solve rule). Its attacks started after a
+//! Skeldar re-solved are computed in the old game and are judged misread (the Skeldar's
+//! step log carries the game it played, [`StepLog::plan`](super::steps::StepLog::plan));
+//! they are never counted on schedule, and for them the game guarantees nothing either way.
+//! So, after a re-solve, the guarantee holds only for an attacker that learns the new
+//! policy — not implemented; it would need the re-solve rule in its briefing and the same
+//! estimate of the truck's progress (its own sightings can put its re-solve at a different
+//! step, a misread) — and in the default scenario (seed 42, discrete level) the one attack
+//! is made before the pickup overrun that triggers the re-solve.
 
 use super::board::targets;
 use super::steps::capture_table;
@@ -10,8 +53,8 @@ use std::sync::Arc;
 use vitro_algo::graph::{Graph, NodeId};
 use vitro_site::geo::P2;
 
-/// Most re-solves a Skeldar makes in a mission (each costs a solve; see the parent module's
-/// docs for the measured cost).
+/// Most re-solves a Skeldar makes in a mission (each costs a solve; see the module docs for
+/// the measured cost).
 pub const MAX_RESOLVES: u64 = 6;
 /// Fewest patrol steps between two re-solves of a Skeldar, beyond the game's attack length:
 /// a re-solve is not repeated while the truck is still catching up with the last one.
@@ -101,16 +144,18 @@ pub(super) fn assemble(
 
 impl PatrolGame {
     /// Where the re-timed trip of a truck `s` metres along the route starts: the step of the
-    /// timetable nearest it (of a wait there, the first: the wait is taken in full again).
-    pub fn retime_index(&self, s: f64) -> usize {
-        let mut best = (f64::INFINITY, 0);
+    /// timetable nearest it; of equals (a wait), the one nearest `phase` (the Skeldar's,
+    /// on this timetable): a truck late to a wait takes it in full, a truck late to leave
+    /// one is taken to leave now (if it does not, the next re-solve re-times again).
+    pub fn retime_index(&self, s: f64, phase: usize) -> usize {
+        let mut best = (f64::INFINITY, usize::MAX, 0);
         for (k, &x) in self.timetable.iter().enumerate() {
-            let d = (x - s).abs();
-            if d < best.0 - 1e-9 {
-                best = (d, k);
+            let (d, gap) = ((x - s).abs(), k.abs_diff(phase));
+            if d < best.0 - 1e-9 || (d < best.0 + 1e-9 && gap < best.1) {
+                best = (d.min(best.0), gap, k);
             }
         }
-        best.1
+        best.2
     }
 
     /// The game of the rest of the trip from step `from` of this game's timetable, re-timed
@@ -176,7 +221,9 @@ impl PatrolUnit {
         if !due || self.resolves >= MAX_RESOLVES || !playing.deviates(self.phase, self.progress) {
             return playing;
         }
-        let from = self.game.retime_index(self.progress);
+        let from = self
+            .game
+            .retime_index(self.progress, self.offset + self.phase);
         let Ok(Some(game)) = self.game.retimed(from) else {
             return playing;
         };
