@@ -74,19 +74,20 @@ use crate::brief::Brief;
 use crate::error::MissionError;
 use board::{Board, project};
 use rand::Rng;
-use resolve::{Frame, Spec, assemble};
 pub use resolve::{MAX_RESOLVES, RESOLVE_GAP_STEPS};
 use serde::{Deserialize, Serialize};
-use std::sync::{Arc, Mutex};
+use solved::{Frame, Solved, Spec, solve_game};
+use std::sync::Arc;
 use steps::{CaptureTable, StepKind, StepLog};
-use vitro_algo::graph::{Graph, NodeId};
-use vitro_algo::patrol::{PatrolPlan, PlanParams, Target};
+use vitro_algo::graph::NodeId;
+use vitro_algo::patrol::{PatrolPlan, Target};
 use vitro_site::geo::{P2, dist};
 use vitro_tactical::types::TypeBook;
 
 pub mod attack;
 mod board;
 pub mod resolve;
+mod solved;
 pub mod steps;
 
 pub use board::REACH_SHARE;
@@ -97,9 +98,6 @@ pub const SPACING_M: f64 = super::cover::SPACING_M;
 /// before the patrol holds (late) or skips ahead (early): half a checkpoint spacing, the
 /// game's own resolution.
 pub const LOCK_TOLERANCE_M: f64 = SPACING_M / 2.0;
-/// Periods of the timetable the occupancy iteration runs before it averages (burn-in), and
-/// then averages over.
-const OCCUPANCY_PERIODS: usize = 64;
 
 /// The patrol game of a mission, solved: what every Skeldar flies by.
 #[derive(Clone, Debug)]
@@ -389,107 +387,44 @@ impl PatrolUnit {
     }
 }
 
-/// What a game is solved from.
-#[derive(Clone, Debug, PartialEq)]
-struct GameKey {
-    graph: Graph,
-    targets: Vec<Target>,
-    units: usize,
-    iterations: usize,
-    seed: u64,
-}
-
-/// Plans solved in this process, most recent last: the runs of a batch share their games.
-static SOLVED: Mutex<Vec<(GameKey, PatrolPlan)>> = Mutex::new(Vec::new());
-/// Most plans kept in [`SOLVED`].
-const SOLVED_KEPT: usize = 8;
-
-/// Solves the game of `targets` on `graph` for `units` units with `iterations` LP
-/// iterations per local search, no restarts and no full-phase candidate, or returns the plan
-/// this process already solved for the same game (the solver is deterministic: the same
-/// plan).
-fn solve(
-    graph: Graph,
-    targets: Vec<Target>,
-    units: usize,
-    iterations: usize,
-    seed: u64,
-) -> Result<PatrolPlan, String> {
-    let key = GameKey {
+/// Makes and solves the game of the convoy's `timetable` (its vertex at each step: `trip`)
+/// on `frame`.
+fn assemble(
+    frame: Frame,
+    timetable: Vec<f64>,
+    trip: Vec<NodeId>,
+    spec: Spec,
+) -> Result<PatrolGame, String> {
+    let Frame {
+        points,
         graph,
+        step_s,
+        reach_m,
+        route,
+        along,
+    } = frame;
+    let Solved {
+        plan,
         targets,
-        units,
-        iterations,
-        seed,
-    };
-    if let Ok(solved) = SOLVED.lock()
-        && let Some((_, plan)) = solved.iter().find(|(k, _)| *k == key)
-    {
-        return Ok(plan.clone());
-    }
-    let params = PlanParams {
-        phase_locked: true,
-        iterations,
-        restarts: 0,
-        seed,
-        full_phase_candidate: false,
-        ..PlanParams::default()
-    };
-    let plan =
-        PatrolPlan::solve(&key.graph, &key.targets, units, &params).map_err(|e| e.to_string())?;
-    if let Ok(mut solved) = SOLVED.lock() {
-        if solved.len() >= SOLVED_KEPT {
-            solved.remove(0);
-        }
-        solved.push((key, plan.clone()));
-    }
-    Ok(plan)
-}
-
-/// Where `unit` is in the long run at each phase of its policy: the distribution over its
-/// states, propagated through the timetable from an even start, then averaged over
-/// [`OCCUPANCY_PERIODS`] periods after as many of burn-in.
-fn occupancy(plan: &PatrolPlan, unit: usize) -> Result<Vec<Vec<(NodeId, f64)>>, String> {
-    let n = plan.graph.node_count();
-    let period = plan.period.max(1);
-    let policy = plan.policies.get(unit).ok_or("no such unit")?;
-    let start = plan.vertices_at(unit, 0).map_err(|e| e.to_string())?;
-    let mut d = vec![0.0; n];
-    for &v in &start {
-        d[v] = 1.0 / start.len() as f64;
-    }
-    let mut sum = vec![vec![0.0; n]; period];
-    for round in 0..2 * OCCUPANCY_PERIODS {
-        for (phase, acc) in sum.iter_mut().enumerate() {
-            if round >= OCCUPANCY_PERIODS {
-                for (a, x) in acc.iter_mut().zip(&d) {
-                    *a += x;
-                }
-            }
-            let mut next = vec![0.0; n];
-            for (v, &p) in d.iter().enumerate() {
-                if p > 0.0
-                    && let Some(moves) = policy.moves_at(v, phase)
-                {
-                    for &(w, q) in moves {
-                        next[w] += p * q;
-                    }
-                }
-            }
-            d = next;
-        }
-    }
-    Ok(sum
-        .into_iter()
-        .map(|acc| {
-            let total: f64 = acc.iter().sum();
-            acc.into_iter()
-                .enumerate()
-                .filter(|&(_, x)| x > 1e-9 * total.max(1e-300))
-                .map(|(v, x)| (v, x / total))
-                .collect()
-        })
-        .collect())
+        capture,
+        occupancy,
+        trip_capture_probability,
+    } = solve_game(graph, &trip, timetable.len(), spec)?;
+    Ok(PatrolGame {
+        points,
+        timetable,
+        trip,
+        plan,
+        trip_capture_probability,
+        step_s,
+        reach_m,
+        route,
+        along,
+        occupancy,
+        targets,
+        capture,
+        spec,
+    })
 }
 
 #[cfg(test)]
@@ -497,6 +432,7 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
+    use vitro_algo::graph::Graph;
 
     /// A straight route of 8 nodes 100 m apart; checkpoints on the nodes, edges up to 200 m.
     /// The convoy waits three steps at 300 m.

@@ -46,12 +46,9 @@
 //! step, a misread) — and in the default scenario (seed 42, discrete level) the one attack
 //! is made before the pickup overrun that triggers the re-solve.
 
-use super::board::targets;
-use super::steps::capture_table;
-use super::{PatrolGame, PatrolUnit, occupancy, solve};
+use super::solved::Frame;
+use super::{PatrolGame, PatrolUnit, assemble};
 use std::sync::Arc;
-use vitro_algo::graph::{Graph, NodeId};
-use vitro_site::geo::P2;
 
 /// Most re-solves a Skeldar makes in a mission (each costs a solve; see the module docs for
 /// the measured cost).
@@ -59,88 +56,6 @@ pub const MAX_RESOLVES: u64 = 6;
 /// Fewest patrol steps between two re-solves of a Skeldar, beyond the game's attack length:
 /// a re-solve is not repeated while the truck is still catching up with the last one.
 pub const RESOLVE_GAP_STEPS: usize = 1;
-
-/// What a game is solved with, besides its timetable.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Spec {
-    /// Steps the second target runs ahead of the convoy (0: the convoy alone).
-    pub ahead: usize,
-    /// Steps an attack takes.
-    pub attack_steps: u32,
-    /// Plan units (Skeldars).
-    pub units: usize,
-    /// LP iterations per local search.
-    pub iterations: usize,
-    /// The solver's seed.
-    pub seed: u64,
-}
-
-/// The parts of a game that do not depend on its timetable.
-pub(super) struct Frame {
-    /// The checkpoints, world points on the ground.
-    pub points: Vec<[f64; 3]>,
-    /// The patrol graph.
-    pub graph: Graph,
-    /// Seconds per step.
-    pub step_s: f64,
-    /// The longest edge, metres.
-    pub reach_m: f64,
-    /// The route's nodes, town metres.
-    pub route: Vec<P2>,
-    /// Distance along the route at each route node, metres.
-    pub along: Vec<f64>,
-}
-
-/// Makes and solves the game of the convoy's `timetable` (its vertex at each step: `trip`)
-/// on `frame`.
-pub(super) fn assemble(
-    frame: Frame,
-    timetable: Vec<f64>,
-    trip: Vec<NodeId>,
-    spec: Spec,
-) -> Result<PatrolGame, String> {
-    let Frame {
-        points,
-        graph,
-        step_s,
-        reach_m,
-        route,
-        along,
-    } = frame;
-    let targets = targets(&graph, &trip, spec.ahead, spec.attack_steps)?;
-    let plan = solve(
-        graph,
-        targets.clone(),
-        spec.units,
-        spec.iterations,
-        spec.seed,
-    )?;
-    let capture = capture_table(&plan, &targets)?;
-    let trip_capture_probability = plan
-        .threats
-        .iter()
-        .filter(|t| t.phase < timetable.len())
-        .map(|t| t.capture_probability)
-        .fold(1.0, f64::min);
-    let occupancy = (0..plan.units())
-        .map(|u| occupancy(&plan, u))
-        .collect::<Result<_, _>>()?;
-    Ok(PatrolGame {
-        points,
-        timetable,
-        trip,
-        plan,
-        trip_capture_probability,
-        step_s,
-        reach_m,
-        route,
-        along,
-        occupancy,
-        targets,
-        capture,
-        spec,
-    })
-}
 
 impl PatrolGame {
     /// Where the re-timed trip of a truck `s` metres along the route starts: the step of the
