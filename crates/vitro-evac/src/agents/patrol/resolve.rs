@@ -18,9 +18,10 @@
 //! before). It is the full game of the remaining trip, not a shorter horizon: its cost
 //! falls with the trip left. Measured on the default scenario (`cargo run -p vitro-evac
 //! [--release] --example patrol_resolve_cost`, one core of the 2-core development machine,
-//! each of the 21 possible re-timings solved once): debug build 0.04–10.4 s, mean 2.0 s;
-//! release build: see the crate's commit message / the lead's notes (the solve is about 10×
-//! faster). Its wall time is reported by that example only, not charged to the simulated
+//! each of the 21 possible re-timings solved once, the machine busy with other builds):
+//! release build 0.002–1.85 s, mean 0.31 s (the mission's own game: 1.5 s to build the
+//! mission); debug build 0.04–10.4 s, mean 2.0 s. The long ones are the early re-timings (a
+//! late start: most of the trip left). Its wall time is reported by that example only, not charged to the simulated
 //! Skeldar (the step it re-solves at is a normal patrol step); a process solves each
 //! re-timing once (the runs of a batch share them). The metric `patrol_resolves` counts the
 //! re-solves; `patrol_capture_probability` becomes the least of the mission's game's and
