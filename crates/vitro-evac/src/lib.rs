@@ -272,7 +272,11 @@ impl Mission {
             }
             let aircraft = agent.and_then(|a| a.downcast_ref::<agents::air::Aircraft>());
             if let Some(unit) = aircraft.and_then(|a| a.patrol.as_ref()) {
-                let p = unit.game.trip_capture_probability;
+                let p = unit
+                    .game
+                    .trip_capture_probability
+                    .min(unit.game_now().trip_capture_probability);
+                m.patrol_resolves += unit.resolves;
                 m.patrol_capture_probability =
                     Some(m.patrol_capture_probability.map_or(p, |q| q.min(p)));
             }

@@ -217,6 +217,7 @@ fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
             "patrol_attacks_misread",
             Metric::count(m.patrol_attacks_misread),
         ),
+        ("patrol_resolves", Metric::count(m.patrol_resolves)),
         ("events", Metric::count(m.events)),
         ("sim_time_s", Metric::Float(m.sim_time_s)),
         ("trace_hash", Metric::Text(format!("{trace:016x}"))),

@@ -70,7 +70,8 @@ pub struct Metrics {
     /// contract failed).
     pub cnet_reallocations: u64,
     /// The patrol game's least capture probability over the attacks of the trip, as
-    /// computed when the mission was built (absent without a Skeldar).
+    /// computed when the mission was built, and after a re-solve the least of that and the
+    /// last re-solved game's over the rest of the trip (absent without a Skeldar).
     pub patrol_capture_probability: Option<f64>,
     /// Share of the escort (the truck on its way, until the VIP is out) during which a
     /// Skeldar was within the cover radius of the truck (horizontally; absent without a
@@ -99,6 +100,9 @@ pub struct Metrics {
     /// Attacks started on a misread state: some Skeldar was not at the vertex and phase the
     /// attacker believed (its phase from its own sightings of the truck).
     pub patrol_attacks_misread: u64,
+    /// Re-solves of the patrol game, over the Skeldars: the truck ran off its timetable and
+    /// the game of the rest of the trip was solved again from where it was.
+    pub patrol_resolves: u64,
     /// Events fired.
     pub events: u64,
     /// Simulated time at the end, seconds.

@@ -25,8 +25,10 @@ fn units(m: &Mission) -> Vec<PatrolUnit> {
         .collect()
 }
 
-/// The Skeldar's (phase, vertex) after every patrol step until `until` seconds.
-fn trace(seed: Option<u64>, until: u64) -> Vec<(usize, usize)> {
+/// The Skeldar's (offset, phase, vertex) after every patrol step until `until` seconds: the
+/// offset is the step of the mission's timetable its game starts at (after a re-solve, where
+/// it re-timed the trip from).
+fn trace(seed: Option<u64>, until: u64) -> Vec<(usize, usize, usize)> {
     let mut m = Mission::at_fidelity(SCENARIO, seed, Preset::Discrete).expect("builds");
     let step = SimDuration::from_secs_f64(m.brief.patrol.step_s);
     let mut out = Vec::new();
@@ -34,7 +36,7 @@ fn trace(seed: Option<u64>, until: u64) -> Vec<(usize, usize)> {
     while t < SimTime::from_secs(until) && m.advance(t) {
         let u = &units(&m)[0];
         if let Some(v) = u.at {
-            out.push((u.phase, v));
+            out.push((u.offset, u.phase, v));
         }
         t += step;
     }
@@ -86,13 +88,18 @@ fn the_skeldar_flies_the_game_one_edge_a_step() {
     let game = units(&m)[0].game.clone();
     let g = &game.plan.graph;
     for w in steps.windows(2) {
-        let ((_, a), (_, b)) = (w[0], w[1]);
+        let ((_, _, a), (_, _, b)) = (w[0], w[1]);
         assert!(a == b || g.has_edge(a, b), "{a} -> {b} is not an edge");
-        assert!(w[0].0 <= w[1].0, "the phase went back: {w:?}");
+        // The phase goes back only where the Skeldar re-solved (its new game's phase 0 is
+        // where the truck is then).
+        assert!(
+            w[0].1 <= w[1].1 || w[1].1 <= 1,
+            "the phase went back: {w:?}"
+        );
     }
     // It follows the truck to the end of the trip.
     assert_eq!(
-        steps.last().map(|s| s.0),
+        steps.last().map(|s| s.0 + s.1),
         Some(game.last_phase()),
         "{steps:?}"
     );
@@ -164,4 +171,59 @@ fn the_games_attacker_strikes_once_and_the_umpire_judges_it() {
     m.run();
     let x = m.metrics();
     assert_eq!((x.patrol_attacks, x.patrol_capture_computed), (0, None));
+}
+
+#[test]
+fn a_late_truck_makes_the_skeldar_re_solve_the_rest_of_the_trip() {
+    // With this seed, at the discrete level, the pickup takes longer than the timetable has
+    // it: the truck is late beyond the lock's tolerance, and the Skeldar re-solves the game of
+    // the rest of the trip from where the truck is (re-timed from the last step of the wait at
+    // the safehouse: the truck taken to leave now).
+    let mut m = Mission::at_fidelity(SCENARIO, Some(42), Preset::Discrete).expect("builds");
+    let step = SimDuration::from_secs_f64(m.brief.patrol.step_s);
+    let mut t = SimTime::from_secs_f64(m.brief.patrol.step_s / 2.0);
+    let mut before = None;
+    while t < SimTime::from_secs(900) && m.advance(t) {
+        let u = units(&m).remove(0);
+        if u.resolves > 0 {
+            let prior: PatrolUnit = before.expect("a step before the re-solve");
+            let game = u.game_now();
+            // The rest of the mission's trip, re-timed from the step where the truck is.
+            assert!(u.offset > 0, "re-timed from step {}", u.offset);
+            assert_eq!(game.timetable, u.game.timetable[u.offset..]);
+            let spacing = vitro_evac::agents::patrol::SPACING_M;
+            assert!(
+                (game.timetable[0] - u.progress).abs() <= spacing,
+                "the truck at {} m, the new timetable from {} m",
+                u.progress,
+                game.timetable[0]
+            );
+            // The Skeldar was off schedule before it re-solved.
+            assert!(prior.game_now().deviates(prior.phase, u.progress));
+            // The new policy starts from its checkpoint then: its first step is an edge (or a
+            // stay) of the graph, at phase 1 of the new game.
+            let e = *u.log.last().expect("a step");
+            assert_eq!((e.plan, e.phase), (u.offset, 1));
+            let (from, to) = (prior.at.expect("flying"), e.at.expect("a checkpoint"));
+            assert!(from == to || game.plan.graph.has_edge(from, to));
+            // The capture probability reported counts the new game's.
+            let x = m.metrics();
+            assert_eq!(x.patrol_resolves, 1);
+            let least = game
+                .trip_capture_probability
+                .min(u.game.trip_capture_probability);
+            assert_eq!(x.patrol_capture_probability, Some(least));
+            eprintln!(
+                "re-solved at {} m from step {}: capture probability {} (the mission's {})",
+                u.progress,
+                u.offset,
+                game.trip_capture_probability,
+                u.game.trip_capture_probability
+            );
+            return;
+        }
+        before = Some(u);
+        t += step;
+    }
+    panic!("no re-solve");
 }

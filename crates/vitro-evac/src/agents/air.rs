@@ -185,7 +185,7 @@ impl Aircraft {
     /// The patrol's intention: the phase, the next checkpoint, and where the policy may have
     /// the Skeldar now (the heat map).
     fn patrol_intention(&self, unit: &PatrolUnit) -> Intention {
-        let game = &unit.game;
+        let game = unit.game_now();
         let text = format!(
             "patrol: phase {}/{}, capture prob {:.2}",
             unit.phase,

@@ -104,6 +104,10 @@ pub struct Attack {
     pub places: Vec<NodeId>,
     /// The game's capture probability of this attack from this state.
     pub capture: f64,
+    /// The game it was computed in: the step of the mission's timetable that game starts
+    /// at (0: the mission's game, the attacker's briefing; see the parent module's docs).
+    #[serde(default)]
+    pub plan: usize,
 }
 
 /// The umpire's verdict on an attack, from the Skeldars' step logs.
@@ -130,8 +134,9 @@ impl Attack {
         for (u, log) in logs.iter().enumerate() {
             let first = log.partition_point(|e| e.t <= self.start_s);
             let before = first.checked_sub(1).and_then(|i| log.get(i));
-            let seen_right =
-                before.is_some_and(|e| e.at == self.from.get(u).copied() && e.phase == self.phase);
+            let seen_right = before.is_some_and(|e| {
+                e.at == self.from.get(u).copied() && e.phase == self.phase && e.plan == self.plan
+            });
             on_schedule &= seen_right;
             misread |= !seen_right;
             let window = log.get(first..).unwrap_or(&[]);
@@ -139,7 +144,9 @@ impl Attack {
                 match window.get(s) {
                     Some(e) => {
                         stopped |= e.at == Some(*place);
-                        on_schedule &= e.kind == StepKind::Policy && e.phase == self.phase + s + 1;
+                        on_schedule &= e.kind == StepKind::Policy
+                            && e.phase == self.phase + s + 1
+                            && e.plan == self.plan;
                     }
                     None => on_schedule = false,
                 }
@@ -232,6 +239,7 @@ impl Attacker {
             from,
             places,
             capture,
+            plan: 0,
         });
         self.attack.as_ref()
     }
@@ -394,6 +402,7 @@ mod tests {
                     at: Some(at),
                     phase,
                     kind,
+                    plan: 0,
                 })
                 .collect()
         };
@@ -404,6 +413,7 @@ mod tests {
             from: vec![2],
             places: vec![4, 5],
             capture: 0.5,
+            plan: 0,
         };
         let p = StepKind::Policy;
         // Stands on the target at the second step: stopped, on schedule.
@@ -415,6 +425,15 @@ mod tests {
         ]);
         let v = attack.verdict(&[&hit]);
         assert!(v.stopped && v.on_schedule);
+        // The Skeldar re-solved in the window (a step of another game): off schedule.
+        let mut resolved = hit.clone();
+        resolved[2].plan = 4;
+        let v = attack.verdict(&[&resolved]);
+        assert!(v.stopped && !v.on_schedule && !v.misread);
+        // Before the attack: the attacker's game is not the Skeldar's, a misread.
+        resolved[0].plan = 4;
+        let v = attack.verdict(&[&resolved]);
+        assert!(!v.on_schedule && v.misread);
         // On the target's place a step too late: missed.
         let late = log(&[
             (1.0, 2, 3, p),

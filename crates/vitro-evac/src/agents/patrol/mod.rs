@@ -65,24 +65,29 @@
 //! was not sent hunting; (3) the attack ends by the extraction point (the mission never
 //! plays the timetable's fictional return). The report counts the attacks for which (1) and
 //! (2) held (`patrol_attacks_on_schedule`). Outside them the patrol still runs (holding or
-//! skipping ahead, as above) but the number is not a guarantee: the plan is not re-solved
-//! from the current state when the truck deviates (a receding-horizon re-solve is not
-//! implemented).
-
+//! skipping ahead, as above, or re-solving, below) but the number is not a guarantee.
+//!
+//! When the truck runs off its timetable beyond the tolerance, the Skeldar re-solves the
+//! game of the rest of the trip from where the truck is ([`resolve`], which also states when
+//! the guarantee holds after a re-solve: the attacker is not told the new policy).
 use crate::brief::Brief;
 use crate::error::MissionError;
-use board::{Board, project, targets};
+use board::{Board, project};
 use rand::Rng;
+pub use resolve::{MAX_RESOLVES, RESOLVE_GAP_STEPS};
 use serde::{Deserialize, Serialize};
-use std::sync::{Arc, Mutex};
-use steps::{CaptureTable, StepKind, StepLog, capture_table};
-use vitro_algo::graph::{Graph, NodeId};
-use vitro_algo::patrol::{PatrolPlan, PlanParams, Target};
+use solved::{Frame, Solved, Spec, solve_game};
+use std::sync::Arc;
+use steps::{CaptureTable, StepKind, StepLog};
+use vitro_algo::graph::NodeId;
+use vitro_algo::patrol::{PatrolPlan, Target};
 use vitro_site::geo::{P2, dist};
 use vitro_tactical::types::TypeBook;
 
 pub mod attack;
 mod board;
+pub mod resolve;
+mod solved;
 pub mod steps;
 
 pub use board::REACH_SHARE;
@@ -93,9 +98,6 @@ pub const SPACING_M: f64 = super::cover::SPACING_M;
 /// before the patrol holds (late) or skips ahead (early): half a checkpoint spacing, the
 /// game's own resolution.
 pub const LOCK_TOLERANCE_M: f64 = SPACING_M / 2.0;
-/// Periods of the timetable the occupancy iteration runs before it averages (burn-in), and
-/// then averages over.
-const OCCUPANCY_PERIODS: usize = 64;
 
 /// The patrol game of a mission, solved: what every Skeldar flies by.
 #[derive(Clone, Debug)]
@@ -126,6 +128,8 @@ pub struct PatrolGame {
     targets: Vec<Target>,
     /// Per unit, target and phase: the capture probability from each of its states.
     capture: CaptureTable,
+    /// What it was solved with (a re-solve uses the same).
+    spec: Spec,
 }
 
 impl PatrolGame {
@@ -152,35 +156,23 @@ impl PatrolGame {
             reach_m,
         } = Board::new(brief, types)?;
         let p = &brief.patrol;
-        let targets = targets(&graph, &trip, p.horizon as usize, p.attack_steps).map_err(setup)?;
-        let iterations = p.iterations as usize;
-        let plan = solve(graph, targets.clone(), units.max(1), iterations, seed).map_err(setup)?;
-        let capture = capture_table(&plan, &targets).map_err(setup)?;
-        let trip_capture_probability = plan
-            .threats
-            .iter()
-            .filter(|t| t.phase < timetable.len())
-            .map(|t| t.capture_probability)
-            .fold(1.0, f64::min);
-        let occupancy = (0..plan.units())
-            .map(|u| occupancy(&plan, u))
-            .collect::<Result<_, _>>()
-            .map_err(setup)?;
+        let spec = Spec {
+            ahead: p.horizon as usize,
+            attack_steps: p.attack_steps,
+            units: units.max(1),
+            iterations: p.iterations as usize,
+            seed,
+        };
         let points = town.iter().map(|&p| brief.site.on_ground(p)).collect();
-        Ok(PatrolGame {
+        let frame = Frame {
             points,
-            timetable,
-            trip,
-            plan,
-            trip_capture_probability,
+            graph,
             step_s: brief.patrol.step_s,
             reach_m,
             route,
             along,
-            occupancy,
-            targets,
-            capture,
-        })
+        };
+        assemble(frame, timetable, trip, spec).map_err(setup)
     }
 
     /// The last phase of the trip (the convoy at the extraction point).
@@ -294,6 +286,20 @@ pub struct PatrolUnit {
     pub rejoins: u64,
     /// Every step it took (the umpire's record, for the attacks' verdicts).
     pub log: Vec<StepLog>,
+    /// Times it re-solved the game ([`PatrolUnit::resolve`]).
+    #[serde(default)]
+    pub resolves: u64,
+    /// The step of the mission's timetable its game starts at: 0, or where its last
+    /// re-solve re-timed the trip from.
+    #[serde(default)]
+    pub offset: usize,
+    /// Its step count ([`PatrolUnit::log`]'s length) at its last re-solve.
+    #[serde(default)]
+    last_resolve: Option<usize>,
+    /// The game it plays after a re-solve (rebuilt from `game` and `offset` after a
+    /// snapshot is restored).
+    #[serde(skip)]
+    current: Option<Arc<PatrolGame>>,
 }
 
 impl PatrolUnit {
@@ -308,6 +314,10 @@ impl PatrolUnit {
             holds: 0,
             rejoins: 0,
             log: Vec::new(),
+            resolves: 0,
+            offset: 0,
+            last_resolve: None,
+            current: None,
         }
     }
 
@@ -333,6 +343,7 @@ impl PatrolUnit {
             at: self.at,
             phase: self.phase,
             kind,
+            plan: self.offset,
         });
         next
     }
@@ -344,16 +355,21 @@ impl PatrolUnit {
         rng: &mut R,
     ) -> Option<(NodeId, StepKind)> {
         let pos = truck?;
-        self.progress = self.game.progress(pos, self.progress);
-        let plan = &self.game.plan;
+        let game = self.playing();
+        self.progress = game.progress(pos, self.progress);
         let Some(at) = self.at else {
-            let phase = self.game.lock(0, self.progress).unwrap_or(0);
-            let fallback = self.game.trip.get(phase).copied().unwrap_or(0);
-            let v = plan.start_vertex(self.unit, phase, rng).unwrap_or(fallback);
+            let phase = game.lock(0, self.progress).unwrap_or(0);
+            let fallback = game.trip.get(phase).copied().unwrap_or(0);
+            let v = game
+                .plan
+                .start_vertex(self.unit, phase, rng)
+                .unwrap_or(fallback);
             (self.at, self.phase) = (Some(v), phase);
             return Some((v, StepKind::Policy));
         };
-        let phase = self.game.lock(self.phase, self.progress)?;
+        let game = self.resolve(game);
+        let plan = &game.plan;
+        let phase = game.lock(self.phase, self.progress)?;
         let from = phase - 1;
         let on_policy = plan
             .policies
@@ -371,107 +387,44 @@ impl PatrolUnit {
     }
 }
 
-/// What a game is solved from.
-#[derive(Clone, Debug, PartialEq)]
-struct GameKey {
-    graph: Graph,
-    targets: Vec<Target>,
-    units: usize,
-    iterations: usize,
-    seed: u64,
-}
-
-/// Plans solved in this process, most recent last: the runs of a batch share their games.
-static SOLVED: Mutex<Vec<(GameKey, PatrolPlan)>> = Mutex::new(Vec::new());
-/// Most plans kept in [`SOLVED`].
-const SOLVED_KEPT: usize = 8;
-
-/// Solves the game of `targets` on `graph` for `units` units with `iterations` LP
-/// iterations per local search, no restarts and no full-phase candidate, or returns the plan
-/// this process already solved for the same game (the solver is deterministic: the same
-/// plan).
-fn solve(
-    graph: Graph,
-    targets: Vec<Target>,
-    units: usize,
-    iterations: usize,
-    seed: u64,
-) -> Result<PatrolPlan, String> {
-    let key = GameKey {
+/// Makes and solves the game of the convoy's `timetable` (its vertex at each step: `trip`)
+/// on `frame`.
+fn assemble(
+    frame: Frame,
+    timetable: Vec<f64>,
+    trip: Vec<NodeId>,
+    spec: Spec,
+) -> Result<PatrolGame, String> {
+    let Frame {
+        points,
         graph,
+        step_s,
+        reach_m,
+        route,
+        along,
+    } = frame;
+    let Solved {
+        plan,
         targets,
-        units,
-        iterations,
-        seed,
-    };
-    if let Ok(solved) = SOLVED.lock()
-        && let Some((_, plan)) = solved.iter().find(|(k, _)| *k == key)
-    {
-        return Ok(plan.clone());
-    }
-    let params = PlanParams {
-        phase_locked: true,
-        iterations,
-        restarts: 0,
-        seed,
-        full_phase_candidate: false,
-        ..PlanParams::default()
-    };
-    let plan =
-        PatrolPlan::solve(&key.graph, &key.targets, units, &params).map_err(|e| e.to_string())?;
-    if let Ok(mut solved) = SOLVED.lock() {
-        if solved.len() >= SOLVED_KEPT {
-            solved.remove(0);
-        }
-        solved.push((key, plan.clone()));
-    }
-    Ok(plan)
-}
-
-/// Where `unit` is in the long run at each phase of its policy: the distribution over its
-/// states, propagated through the timetable from an even start, then averaged over
-/// [`OCCUPANCY_PERIODS`] periods after as many of burn-in.
-fn occupancy(plan: &PatrolPlan, unit: usize) -> Result<Vec<Vec<(NodeId, f64)>>, String> {
-    let n = plan.graph.node_count();
-    let period = plan.period.max(1);
-    let policy = plan.policies.get(unit).ok_or("no such unit")?;
-    let start = plan.vertices_at(unit, 0).map_err(|e| e.to_string())?;
-    let mut d = vec![0.0; n];
-    for &v in &start {
-        d[v] = 1.0 / start.len() as f64;
-    }
-    let mut sum = vec![vec![0.0; n]; period];
-    for round in 0..2 * OCCUPANCY_PERIODS {
-        for (phase, acc) in sum.iter_mut().enumerate() {
-            if round >= OCCUPANCY_PERIODS {
-                for (a, x) in acc.iter_mut().zip(&d) {
-                    *a += x;
-                }
-            }
-            let mut next = vec![0.0; n];
-            for (v, &p) in d.iter().enumerate() {
-                if p > 0.0
-                    && let Some(moves) = policy.moves_at(v, phase)
-                {
-                    for &(w, q) in moves {
-                        next[w] += p * q;
-                    }
-                }
-            }
-            d = next;
-        }
-    }
-    Ok(sum
-        .into_iter()
-        .map(|acc| {
-            let total: f64 = acc.iter().sum();
-            acc.into_iter()
-                .enumerate()
-                .filter(|&(_, x)| x > 1e-9 * total.max(1e-300))
-                .map(|(v, x)| (v, x / total))
-                .collect()
-        })
-        .collect())
+        capture,
+        occupancy,
+        trip_capture_probability,
+    } = solve_game(graph, &trip, timetable.len(), spec)?;
+    Ok(PatrolGame {
+        points,
+        timetable,
+        trip,
+        plan,
+        trip_capture_probability,
+        step_s,
+        reach_m,
+        route,
+        along,
+        occupancy,
+        targets,
+        capture,
+        spec,
+    })
 }
 
 #[cfg(test)]
@@ -479,6 +432,7 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
+    use vitro_algo::graph::Graph;
 
     /// A straight route of 8 nodes 100 m apart; checkpoints on the nodes, edges up to 200 m.
     /// The convoy waits three steps at 300 m.
@@ -490,25 +444,23 @@ mod tests {
         let graph = Graph::from_edges(8, &edges).unwrap();
         let timetable = vec![0.0, 100.0, 300.0, 300.0, 300.0, 500.0, 700.0];
         let trip: Vec<NodeId> = timetable.iter().map(|s| (s / 100.0) as usize).collect();
-        let targets = targets(&graph, &trip, 1, 2).unwrap();
-        let plan = solve(graph, targets.clone(), 1, 5, 0).unwrap();
-        let capture = capture_table(&plan, &targets).unwrap();
         let route: Vec<P2> = (0..8).map(|i| [100.0 * f64::from(i), 0.0]).collect();
-        let occupancy = vec![occupancy(&plan, 0).unwrap()];
-        PatrolGame {
+        let frame = Frame {
             points: route.iter().map(|p| [p[0], p[1], 0.0]).collect(),
-            timetable,
-            trip,
-            trip_capture_probability: plan.capture_probability,
-            plan,
+            graph,
             step_s: 20.0,
             reach_m: 200.0,
             along: route.iter().map(|p| p[0]).collect(),
             route,
-            occupancy,
-            targets,
-            capture,
-        }
+        };
+        let spec = Spec {
+            ahead: 1,
+            attack_steps: 2,
+            units: 1,
+            iterations: 5,
+            seed: 0,
+        };
+        assemble(frame, timetable, trip, spec).unwrap()
     }
 
     #[test]
@@ -550,18 +502,24 @@ mod tests {
         let mut unit = PatrolUnit::new(g.clone(), 0);
         let mut at = None;
         for &x in &truck {
-            let before = unit.phase;
+            let (before, resolves) = (unit.phase, unit.resolves);
             if let Some(next) = unit.step(Some([x, 0.0]), 0.0, &mut rng) {
                 if let Some(a) = at {
                     assert!(a == next || g.plan.graph.has_edge(a, next), "{a} -> {next}");
                 }
                 at = Some(next);
             }
-            assert!(unit.phase >= before);
+            // The phase goes forward, or starts again with a re-solve.
+            assert!(unit.phase >= before || unit.resolves > resolves);
             assert_eq!(unit.at, at);
         }
-        assert_eq!(unit.phase, g.last_phase());
-        assert!(unit.holds >= 2, "held {} times", unit.holds);
+        assert_eq!(unit.phase, unit.game_now().last_phase());
+        assert!(
+            unit.holds + unit.resolves >= 2,
+            "held {} times, re-solved {} times",
+            unit.holds,
+            unit.resolves
+        );
         // No track of the truck: stay.
         assert_eq!(unit.step(None, 0.0, &mut rng), None);
     }

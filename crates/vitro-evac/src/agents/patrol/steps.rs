@@ -27,6 +27,10 @@ pub struct StepLog {
     pub phase: usize,
     /// What it did.
     pub kind: StepKind,
+    /// The game it played: the step of the mission's timetable that game starts at (0: the
+    /// mission's game; after a re-solve, where it re-timed the trip from).
+    #[serde(default)]
+    pub plan: usize,
 }
 
 /// Per plan unit, target and phase: the capture probability of an attack started with the
