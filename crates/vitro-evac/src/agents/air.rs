@@ -270,7 +270,10 @@ impl Aircraft {
 
     /// Starts the next cover step if it is due, the truck at checkpoint `k`.
     fn watch_next(&mut self, k: usize, cx: &mut Context<'_, Tactical>) {
-        let Some(s) = self.watcher.as_mut().and_then(|w| w.next(k)) else {
+        let here = cx
+            .sense(&OwnPose)
+            .map_or(k, |p| nearest(&self.points, p.pos));
+        let Some(s) = self.watcher.as_mut().and_then(|w| w.next(k, here)) else {
             return;
         };
         if let Some(&p) = self.points.get(s.spot) {

@@ -13,7 +13,8 @@
 //!
 //! **Execution** ([`watch`]): each Vidar flies its own steps in order, paced by the team (a
 //! step starts once its checkpoint is at most [`AHEAD`] checkpoints ahead of the truck's last
-//! reported place), and looks at the checkpoint on arrival: the look fails when its camera
+//! reported place, or at once if it leads back towards the team), and looks at the checkpoint
+//! on arrival: the look fails when its camera
 //! has no line of sight to the checkpoint's ground (a roof in the way, out of range), or
 //! with the scenario's `repair.failure_rate` (glare, smoke, a gust: drawn from its own
 //! stream). It reports each look to the lead by radio (the lead's own looks need no
@@ -381,7 +382,8 @@ impl CoverPlanner {
             let Some(spot) = spot_of(&s.action) else {
                 continue;
             };
-            if spot > k + AHEAD {
+            let back = at.get(i).copied().flatten().is_some_and(|h| spot < h);
+            if spot > k + AHEAD && !back {
                 self.due_since.insert(i, now_s);
                 continue;
             }

@@ -86,14 +86,15 @@ impl Watcher {
         self.flying = keep;
     }
 
-    /// The step to start now, the truck at checkpoint `k` (none: one is under way, none is
-    /// left, or the next is too far ahead of the team).
-    pub fn next(&mut self, k: usize) -> Option<CoverStep> {
+    /// The step to start now, the truck at checkpoint `k`, the Vidar over checkpoint `here`
+    /// (none: one is under way, none is left, or the next is too far ahead of the team and
+    /// not on the way back to it).
+    pub fn next(&mut self, k: usize, here: usize) -> Option<CoverStep> {
         if self.recalled || self.flying.is_some() {
             return None;
         }
         let s = *self.queue.front()?;
-        if s.spot > k + AHEAD {
+        if s.spot > k + AHEAD && s.spot >= here {
             return None;
         }
         self.queue.pop_front();
@@ -148,17 +149,20 @@ mod tests {
     fn steps_wait_for_the_team_and_new_plans_replace_old() {
         let mut w = Watcher::new(EntityId(1));
         w.take(vec![step(0, 1), step(1, 5)]);
-        assert_eq!(w.next(0), Some(step(0, 1)));
-        assert_eq!(w.next(0), None, "one step at a time");
+        assert_eq!(w.next(0, 0), Some(step(0, 1)));
+        assert_eq!(w.next(0, 1), None, "one step at a time");
         assert_eq!(w.arrived(), Some(step(0, 1)));
         assert_eq!(
-            w.next(0),
+            w.next(0, 1),
             None,
             "checkpoint 5 is too far ahead of the truck at 0"
         );
-        assert_eq!(w.next(3), Some(step(1, 5)));
+        assert_eq!(w.next(3, 1), Some(step(1, 5)));
         w.take(vec![step(2, 6)]);
         assert_eq!(w.arrived(), None, "the step under way was dropped");
         assert_eq!(w.steps(), vec![step(2, 6)]);
+        // Far ahead of the team, a step back towards it starts at once.
+        w.take(vec![step(3, 9)]);
+        assert_eq!(w.next(0, 10), Some(step(3, 9)));
     }
 }
