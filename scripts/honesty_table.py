@@ -13,35 +13,15 @@ import math
 import pathlib
 import sys
 
+from table_stats import wilson, mean_ci, num
+
 KEYS = ("channel.loss", "sensors.air.range_m", "sensors.ground.range_m")
 
 
-def wilson(k: int, n: int) -> tuple[float, float]:
-    if n == 0:
-        return (math.nan, math.nan)
-    z = 1.96
-    p = k / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return (centre - half, centre + half)
 
 
-def mean_ci(xs: list[float]) -> tuple[float, float]:
-    xs = [x for x in xs if not math.isnan(x)]
-    if not xs:
-        return (math.nan, math.nan)
-    m = sum(xs) / len(xs)
-    if len(xs) < 2:
-        return (m, math.nan)
-    var = sum((x - m) ** 2 for x in xs) / (len(xs) - 1)
-    return (m, 1.96 * math.sqrt(var / len(xs)))
 
 
-def num(s: str) -> float:
-    try:
-        return float(s)
-    except ValueError:
-        return math.nan
 
 
 def summary(results: pathlib.Path) -> dict:

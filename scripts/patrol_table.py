@@ -17,22 +17,11 @@ import math
 import pathlib
 import sys
 
-
-def wilson(k: int, n: int) -> tuple[float, float]:
-    if n == 0:
-        return (math.nan, math.nan)
-    z = 1.96
-    p = k / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return (centre - half, centre + half)
+from table_stats import wilson, num
 
 
-def num(s: str) -> float:
-    try:
-        return float(s)
-    except (TypeError, ValueError):
-        return math.nan
+
+
 
 
 def line(label: str, attacks: list[tuple[float, bool]]) -> str:
