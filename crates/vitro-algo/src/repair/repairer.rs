@@ -1,54 +1,4 @@
-//! The repair framework for plans executed elsewhere: a [`Repairer`] holds a team's joint
-//! plan and repairs it by a [`Strategy`] when the agents that execute it, in a world of
-//! their own (a mission), report a failure, a lost teammate or the end of the plan.
-//!
-//! The stand-alone [`run`](super::run) executes a plan turn by turn in a world of its own;
-//! here the caller owns the world and the radio. Each agent executes its own steps in
-//! order, in parallel with the others; the caller tells the repairer which steps were done
-//! ([`Repairer::done`]), what it believes is true ([`Repairer::repair`]'s `belief`) and
-//! what the goal is now (a goal may shrink as the mission moves on). The repairer answers
-//! with a new plan and the agents that must be told their new steps: counting those
-//! messages is the point of comparing strategies.
-//!
-//! Strategies, for parallel execution:
-//! - [`Replan`](Strategy::Replan): at every failure, a plan from the belief to the goal;
-//!   every agent with a step it was not told gets a message.
-//! - [`BackOnTrack`](Strategy::BackOnTrack): a plan from the belief to a *target*: what the
-//!   failed step should have made true, what each working agent's next pending step needs,
-//!   and the goal facts a lost agent's pending steps would have made true; then the pending
-//!   steps of the working agents, unchanged (their owners need no message). No such plan
-//!   (or the end of the plan short of the goal): it falls back to replanning.
-//! - [`Lazy`](Strategy::Lazy): failures of the first plan are left alone (the agents go on);
-//!   when the plan ends short of the goal, one repair to the goal, whose own failures are
-//!   replanned. [`RepeatedLazy`](Strategy::RepeatedLazy): every plan is executed lazily.
-//!
-//! `max_depth` cuts a repair plan to its first steps (the rest is planned when the cut plan
-//! ends); each cut is counted. `max_expansions` bounds each search.
-//!
-//! ```
-//! use vitro_algo::planning::PddlSource;
-//! use vitro_algo::repair::{Cause, Ownership, RepairSettings, Repairer, Scenario, Strategy};
-//!
-//! let domain = "(define (domain lift) (:predicates (at ?w ?f) (adj ?a ?b) (seen ?f))
-//!   (:action go :parameters (?w ?a ?b) :precondition (and (at ?w ?a) (adj ?a ?b))
-//!    :effect (and (at ?w ?b) (not (at ?w ?a)) (seen ?b))))";
-//! let problem = "(define (problem p) (:domain lift) (:objects ann bob f0 f1 f2)
-//!   (:init (at ann f0) (at bob f2) (adj f0 f1) (adj f1 f0) (adj f1 f2) (adj f2 f1))
-//!   (:goal (and (seen f1) (seen f0))))";
-//! let s = Scenario::from_pddl(PddlSource::new("d", domain), PddlSource::new("p", problem),
-//!                             &Ownership::first_parameter())?;
-//! let settings = RepairSettings { strategy: Strategy::Replan, ..RepairSettings::default() };
-//! let mut r = Repairer::new(&s, settings);
-//! let told = r.start();                 // the first plan goes to its owners
-//! assert!(!told.is_empty());
-//! // The first step ran but its effect did not come true: replan from what is believed.
-//! let first = r.pending()[0].id;
-//! r.done(first);
-//! let belief = ["(at ann f0)", "(at bob f2)"];
-//! let rev = r.repair(Cause::Failed(first), &belief, &["(seen f1)", "(seen f0)"])?.unwrap();
-//! assert!(rev.found);
-//! # Ok::<(), vitro_algo::repair::RepairError>(())
-//! ```
+//! The repair framework for plans executed in the caller's world: [`Repairer`].
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
@@ -153,7 +103,57 @@ pub struct RepairTally {
     pub expanded: u64,
 }
 
-/// A team's joint plan and its repair (see the [module](self) documentation).
+/// The repair framework for plans executed elsewhere: a [`Repairer`] holds a team's joint
+/// plan and repairs it by a [`Strategy`] when the agents that execute it, in a world of
+/// their own (a mission), report a failure, a lost teammate or the end of the plan.
+///
+/// The stand-alone [`run`](super::run) executes a plan turn by turn in a world of its own;
+/// here the caller owns the world and the radio. Each agent executes its own steps in
+/// order, in parallel with the others; the caller tells the repairer which steps were done
+/// ([`Repairer::done`]), what it believes is true ([`Repairer::repair`]'s `belief`) and
+/// what the goal is now (a goal may shrink as the mission moves on). The repairer answers
+/// with a new plan and the agents that must be told their new steps: counting those
+/// messages is the point of comparing strategies.
+///
+/// Strategies, for parallel execution:
+/// - [`Replan`](Strategy::Replan): at every failure, a plan from the belief to the goal;
+///   every agent with a step it was not told gets a message.
+/// - [`BackOnTrack`](Strategy::BackOnTrack): a plan from the belief to a *target*: what the
+///   failed step should have made true, what each working agent's next pending step needs,
+///   and the goal facts a lost agent's pending steps would have made true; then the pending
+///   steps of the working agents, unchanged (their owners need no message). No such plan
+///   (or the end of the plan short of the goal): it falls back to replanning.
+/// - [`Lazy`](Strategy::Lazy): failures of the first plan are left alone (the agents go on);
+///   when the plan ends short of the goal, one repair to the goal, whose own failures are
+///   replanned. [`RepeatedLazy`](Strategy::RepeatedLazy): every plan is executed lazily.
+///
+/// `max_depth` cuts a repair plan to its first steps (the rest is planned when the cut plan
+/// ends); each cut is counted. `max_expansions` bounds each search.
+///
+/// ```
+/// use vitro_algo::planning::PddlSource;
+/// use vitro_algo::repair::{Cause, Ownership, RepairSettings, Repairer, Scenario, Strategy};
+///
+/// let domain = "(define (domain lift) (:predicates (at ?w ?f) (adj ?a ?b) (seen ?f))
+///   (:action go :parameters (?w ?a ?b) :precondition (and (at ?w ?a) (adj ?a ?b))
+///    :effect (and (at ?w ?b) (not (at ?w ?a)) (seen ?b))))";
+/// let problem = "(define (problem p) (:domain lift) (:objects ann bob f0 f1 f2)
+///   (:init (at ann f0) (at bob f2) (adj f0 f1) (adj f1 f0) (adj f1 f2) (adj f2 f1))
+///   (:goal (and (seen f1) (seen f0))))";
+/// let s = Scenario::from_pddl(PddlSource::new("d", domain), PddlSource::new("p", problem),
+///                             &Ownership::first_parameter())?;
+/// let settings = RepairSettings { strategy: Strategy::Replan, ..RepairSettings::default() };
+/// let mut r = Repairer::new(&s, settings);
+/// let told = r.start();                 // the first plan goes to its owners
+/// assert!(!told.is_empty());
+/// // The first step ran but its effect did not come true: replan from what is believed.
+/// let first = r.pending()[0].id;
+/// r.done(first);
+/// let belief = ["(at ann f0)", "(at bob f2)"];
+/// let rev = r.repair(Cause::Failed(first), &belief, &["(seen f1)", "(seen f0)"])?.unwrap();
+/// assert!(rev.found);
+/// # Ok::<(), vitro_algo::repair::RepairError>(())
+/// ```
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(into = "Saved", try_from = "Saved")]
 pub struct Repairer {

@@ -64,7 +64,7 @@ impl Default for MoIsmctsConfig {
     }
 }
 
-/// MO-ISMCTS for either side of the turn-based game (see the [module docs](self)).
+/// MO-ISMCTS for either side of the turn-based game (see the [game](super) module docs).
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct MoIsmcts {
     /// Settings.

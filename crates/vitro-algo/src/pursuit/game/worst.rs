@@ -48,7 +48,7 @@ impl Default for WorstCaseMinimaxConfig {
     }
 }
 
-/// Iterative-deepening alpha-beta over information states (see the [module docs](self)).
+/// Iterative-deepening alpha-beta over information states (see the [game](super) module docs).
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct WorstCaseMinimax {
     /// Settings.
