@@ -160,8 +160,6 @@ pub struct Repairer {
     team: Arc<Team>,
     saved: Saved,
     index: BTreeMap<String, FactId>,
-    /// Facts true initially that no action changes (added to every belief).
-    fixed: Vec<FactId>,
 }
 
 /// The repairer's state, and how it is saved: the PDDL it was made from and its plan.
@@ -224,17 +222,6 @@ impl Repairer {
     fn build(scenario: &Scenario, settings: RepairSettings) -> Self {
         let team = scenario.team.clone();
         let task = &team.task;
-        let changed: BTreeSet<FactId> = task
-            .actions
-            .iter()
-            .flat_map(|a| a.add.iter().chain(&a.del).copied())
-            .collect();
-        let fixed = task
-            .init
-            .iter()
-            .copied()
-            .filter(|f| !changed.contains(f))
-            .collect();
         let index = task
             .facts
             .iter()
@@ -266,12 +253,7 @@ impl Repairer {
             past: BTreeMap::new(),
             tally: RepairTally::default(),
         };
-        Repairer {
-            team,
-            saved,
-            index,
-            fixed,
-        }
+        Repairer { team, saved, index }
     }
 
     /// The agents that own steps of the first plan (each needs a message with its steps),
@@ -344,12 +326,9 @@ impl Repairer {
         self.saved.settings
     }
 
-    fn facts(&self, names: &[&str], with_fixed: bool) -> Result<Vec<FactId>, RepairError> {
-        let mut out: Vec<FactId> = if with_fixed {
-            self.fixed.clone()
-        } else {
-            Vec::new()
-        };
+    /// The ids of facts named in PDDL form, sorted.
+    fn facts(&self, names: &[&str]) -> Result<Vec<FactId>, RepairError> {
+        let mut out: Vec<FactId> = Vec::with_capacity(names.len());
         for n in names {
             let f = self
                 .index
@@ -363,7 +342,7 @@ impl Repairer {
     }
 
     /// Repairs the plan for `cause`, from the facts believed true now (`belief`: the facts
-    /// that actions change; the fixed ones are added) to `goal`. `None`: nothing to do now
+    /// that actions change; grounding compiles the static ones away) to `goal`. `None`: nothing to do now
     /// (a failure of a lazily executed plan, or a plan end with the goal believed reached).
     ///
     /// # Errors
@@ -378,8 +357,8 @@ impl Repairer {
             self.saved.lost.insert(a);
         }
         let task = &self.team.task;
-        let belief = bits::state(task.words(), &self.facts(belief, true)?);
-        let goal = self.facts(goal, false)?;
+        let belief = bits::state(task.words(), &self.facts(belief)?);
+        let goal = self.facts(goal)?;
         if cause == Cause::PlanEnd && goal.iter().all(|&f| holds(&belief, f)) {
             return Ok(None);
         }
