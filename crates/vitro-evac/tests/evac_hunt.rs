@@ -41,8 +41,8 @@ fn hunt_players_take_one_turn_at_a_time() {
             let who = if i.text.starts_with("evade") {
                 0
             } else if i.text.starts_with("lead the HVT hunt") {
-                // The lead plays the game search (the default `algorithm = "mcts"`).
-                assert!(i.text.contains("(MO-ISMCTS, turn "), "{}", i.text);
+                // The lead plays the default search (`lead = "determinized"`, `algorithm = "mcts"`).
+                assert!(i.text.contains("(MCTS, turn "), "{}", i.text);
                 1
             } else {
                 continue;
