@@ -12,7 +12,7 @@ use vitro_evac::Mission;
 use vitro_evac::agents::commander::Phase;
 use vitro_evac::agents::trooper::Task;
 use vitro_tactical::condition::Status;
-use vitro_tactical::scenario::Preset;
+use vitro_tactical::scenario::{FidelitySpec, Preset, PursuitLead, ScenarioFile};
 
 const SCENARIO: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -41,6 +41,8 @@ fn hunt_players_take_one_turn_at_a_time() {
             let who = if i.text.starts_with("evade") {
                 0
             } else if i.text.starts_with("lead the HVT hunt") {
+                // The lead plays the default search (`lead = "determinized"`, `algorithm = "mcts"`).
+                assert!(i.text.contains("(MCTS, turn "), "{}", i.text);
                 1
             } else {
                 continue;
@@ -215,4 +217,30 @@ fn a_silent_hunt_lead_is_replaced() {
         "{next:?} leads {took:.0} s after the lead fell"
     );
     assert!(matches!(trooper(&m, next).task, Task::Hunt(_)));
+}
+
+#[test]
+fn the_game_search_leads_the_hunt_when_asked() {
+    // `[pursuit] lead = "game"`: the lead plays MO-ISMCTS (the evader's decisions in its
+    // tree) on the same board, turn by turn, and orders the team like the default search.
+    let mut v = ScenarioFile::validate(SCENARIO).expect("valid");
+    v.loaded.file.fidelity = FidelitySpec {
+        level: Preset::Discrete,
+        ..FidelitySpec::default()
+    };
+    v.loaded.file.pursuit.lead = PursuitLead::Game;
+    let mut m = vitro_evac::Mission::build(v, Some(2)).expect("builds");
+    m.end = SimTime::from_secs(1500);
+    let mut turns = 0;
+    let mut t = SimTime::ZERO;
+    while m.advance(t) {
+        for i in &m.frame().intentions {
+            if i.text.starts_with("lead the HVT hunt") {
+                assert!(i.text.contains("(MO-ISMCTS, turn "), "{}", i.text);
+                turns = turns.max(turn_in(&i.text).unwrap_or(0));
+            }
+        }
+        t += SimDuration::from_secs(1);
+    }
+    assert!(turns >= 3, "the game lead took {turns} turns");
 }

@@ -498,12 +498,28 @@ pub enum PursuitAlgorithm {
     Minimax,
 }
 
+/// Which family of search the hunt lead plays (the HVT always evades with the
+/// determinized one: the game searches assume an evader that sees the pursuers).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum PursuitLead {
+    /// Information-set search over sampled determinizations with a scripted ε-greedy
+    /// evader inside (`vitro_algo::pursuit`'s `Mcts` / `Minimax`).
+    #[default]
+    Determinized,
+    /// The game searches: MO-ISMCTS or worst-case minimax over the team's information
+    /// sets, the evader's decisions in the tree (`vitro_algo::pursuit::game`).
+    Game,
+}
+
 /// Pursuit of the HVT.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct PursuitSpec {
     /// The search.
     pub algorithm: PursuitAlgorithm,
+    /// The hunt lead's family of search.
+    pub lead: PursuitLead,
     /// Iterations per decision.
     pub budget: u32,
     /// Simulated thinking time charged per iteration, microseconds.
@@ -517,6 +533,7 @@ impl Default for PursuitSpec {
     fn default() -> Self {
         PursuitSpec {
             algorithm: PursuitAlgorithm::Mcts,
+            lead: PursuitLead::Determinized,
             budget: 500,
             think_us_per_iteration: 20.0,
             horizon: 30,
