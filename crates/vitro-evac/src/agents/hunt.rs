@@ -13,7 +13,7 @@
 //!
 //! Measured over 100 seeds per point (`experiments/mission_hunt.toml`), the game searches
 //! catch this target less often than the determinized ones (MCTS at 3,000 iterations:
-//! 0.61 against 0.87): they play against an evader that sees the pursuers, which the target
+//! 0.63 against 0.87): they play against an evader that sees the pursuers, which the target
 //! is not, so they guard against escapes it never tries.
 //!
 //! The game searches fit the mission's turn order as it is: a lead turn is the game's pursuer move,
