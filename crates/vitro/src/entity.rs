@@ -35,6 +35,11 @@ pub enum EntityError {
 
 /// The directory of all entities of a simulation: ids in creation order, unique names.
 ///
+/// The empty name names nothing: an entity created with it is unnamed (known by its id
+/// only), any number of entities may be, and `lookup("")` finds none of them. A model that
+/// adds agents by the thousand and never looks them up by name (the newborns of a
+/// predator-prey model, say) saves a name and its index entry each.
+///
 /// Names are found through an index on their [`stable_str_hash`](crate::trace::stable_str_hash)
 /// (an entity whose name's hash another name already has goes to a second index by name, a
 /// chance of 2^-64 a pair): creating an entity costs a hash and a hash-table insert, not
@@ -98,6 +103,10 @@ impl Entities {
     pub fn create(&mut self, name: impl Into<String>) -> Result<EntityId, EntityError> {
         let name = name.into();
         let id = EntityId(u32::try_from(self.names.len()).expect("more than 2^32 entities"));
+        if name.is_empty() {
+            self.names.push(name);
+            return Ok(id);
+        }
         // One probe of the index: a new hash (the usual case), or a name to compare.
         match self.by_hash.entry(crate::trace::stable_str_hash(&name)) {
             std::collections::hash_map::Entry::Vacant(v) => {
@@ -115,6 +124,9 @@ impl Entities {
     }
     /// The entity called `name`.
     pub fn lookup(&self, name: &str) -> Option<EntityId> {
+        if name.is_empty() {
+            return None;
+        }
         let id = *self.by_hash.get(&crate::trace::stable_str_hash(name))?;
         if self.names[id.index()] == name {
             Some(id)
@@ -236,6 +248,21 @@ mod tests {
         })
         .unwrap();
         assert!(postcard::from_bytes::<Entities>(&dup).is_err());
+    }
+
+    #[test]
+    fn the_empty_name_names_nothing() {
+        let mut e = Entities::default();
+        let a = e.create("").unwrap();
+        let b = e.create("").unwrap();
+        let c = e.create("c").unwrap();
+        assert_eq!((a, b, c), (EntityId(0), EntityId(1), EntityId(2)));
+        assert_eq!(
+            (e.lookup(""), e.lookup("c"), e.name(b)),
+            (None, Some(c), Some(""))
+        );
+        let r: Entities = postcard::from_bytes(&postcard::to_stdvec(&e).unwrap()).unwrap();
+        assert_eq!((r.len(), r.lookup("c"), r.lookup("")), (3, Some(c), None));
     }
 
     #[test]

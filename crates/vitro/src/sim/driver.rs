@@ -120,7 +120,8 @@ impl<M: Model> Simulation<M> {
         Ok(id)
     }
 
-    /// Creates an entity driven by `agent`. Broadcasts reach agents in this order.
+    /// Creates an entity driven by `agent`. Broadcasts reach agents in this order. An empty
+    /// `name` makes an unnamed entity ([`Entities`]: known by its id only).
     pub fn add_agent(
         &mut self,
         name: impl Into<String>,
