@@ -320,8 +320,9 @@ fn add(sim: &mut Simulation<Model>, rounds: Rounds, k: Kind, a: Animal) {
         Kind::Sheep => (rounds.sheep, p.sheep_reproduce),
         Kind::Wolf => (rounds.wolves, p.wolf_reproduce),
     };
-    let n = sim.entities().len();
-    let Ok(id) = sim.add_agent(format!("animal-{n}"), Beast::Animal(k, round, p_breed)) else {
+    // Unnamed: an animal is known by its id (as in the other frameworks), and a run adds
+    // tens of thousands of them.
+    let Ok(id) = sim.add_agent("", Beast::Animal(k, round, p_breed)) else {
         return;
     };
     let w = sim.env_mut();
