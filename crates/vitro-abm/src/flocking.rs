@@ -8,7 +8,7 @@
 //! Neighbour search goes through a bucket grid of cells at least the visual distance wide,
 //! kept by the flight actuator.
 
-use crate::{DRAWS, STEP, activation_delay};
+use crate::STEP;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
@@ -190,10 +190,9 @@ impl Actuator<Sky, Wake> for Fly {
 #[derive(Copy, Clone, Debug, Serialize)]
 pub struct Wake;
 
-/// A bird: looks, steers, flies; next activation in the next step's window. It carries
-/// its own flocking properties, as in the declaration.
+/// A bird: looks, steers, flies; a member of the model's round (activated once a step, in a
+/// fresh random order). It carries its own flocking properties, as in the declaration.
 pub struct Boid {
-    step: u64,
     p: Flocking,
 }
 
@@ -246,9 +245,6 @@ impl Agent<Model> for Boid {
             return;
         };
         let Ok(()) = cx.act(&Fly, steer(&self.p, me.vel, &seen));
-        self.step += 1;
-        let delay = activation_delay(cx.now(), self.step, 0.0, 1.0, cx.rng(DRAWS));
-        cx.set_timer(delay, 0);
     }
 }
 
@@ -263,10 +259,15 @@ pub fn build(p: &Flocking, seed: u64) -> Simulation<Model> {
     };
     let mut sim = Simulation::<Model>::new(sky, seed);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    // One firing at the start of each step: every bird once, in a fresh random order.
+    let Ok(steps) = sim.add_round(SimTime::ZERO, STEP, 0) else {
+        return sim;
+    };
     for i in 0..p.birds {
-        let Ok(id) = sim.add_agent(format!("bird-{i}"), Boid { step: 0, p: *p }) else {
+        let Ok(id) = sim.add_agent(format!("bird-{i}"), Boid { p: *p }) else {
             break;
         };
+        sim.join_round(steps, id);
         let pos = [
             rng.random::<f64>() * p.extent,
             rng.random::<f64>() * p.extent,
@@ -285,8 +286,6 @@ pub fn build(p: &Flocking, seed: u64) -> Simulation<Model> {
         let (cx, cy) = w.cell_of(pos);
         w.cells[cy * w.n + cx].push(id);
         w.birds.insert(id, Bird { pos, vel: v });
-        let first = SimTime::from_nanos(rng.random_range(0..STEP.as_nanos()));
-        let _ = sim.schedule(first, Target::Entity(id), Wake);
     }
     sim
 }
@@ -301,7 +300,7 @@ pub struct Outcome {
     pub polarisation: f64,
     /// Mean number of neighbours within the visual distance.
     pub neighbours: f64,
-    /// Events fired.
+    /// Events fired (one a step: the round's firing).
     pub events: u64,
 }
 
@@ -328,7 +327,8 @@ fn order(sky: &Sky) -> (f64, f64) {
 /// Runs a model of `p` with `seed` for its steps.
 pub fn run(p: &Flocking, seed: u64) -> Outcome {
     let mut sim = build(p, seed);
-    sim.run_until(SimTime::ZERO + STEP * p.steps);
+    // The last step's firing is at `steps - 1`.
+    sim.run_until(SimTime::ZERO + STEP * p.steps.saturating_sub(1));
     let (polarisation, neighbours) = order(sim.env());
     Outcome {
         birds: sim.env().birds.len() as u32,
@@ -353,7 +353,7 @@ mod tests {
         let p = Flocking::SMALL;
         let (_, before) = initial_order(&p, 5);
         let out = run(&p, 5);
-        assert_eq!(out.events, u64::from(p.birds) * p.steps);
+        assert_eq!(out.events, p.steps);
         // Uniformly scattered birds have ~200 × π 5² / 100² ≈ 1.6 neighbours; flocks gather.
         assert!(before < 2.5, "{before}");
         assert!(out.neighbours > 2.0 * before, "{out:?} from {before}");

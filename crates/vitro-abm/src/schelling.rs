@@ -5,7 +5,7 @@
 //! radius `r`; with at least `min_happy` of them it is happy and stays, otherwise it moves to
 //! a random empty cell. 20 steps.
 
-use crate::{DRAWS, STEP, activation_delay};
+use crate::{DRAWS, STEP};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
@@ -102,7 +102,7 @@ impl Sensor<Town> for Neighbours {
 }
 
 /// Stays (happy) or moves to a random empty cell (unhappy), drawing from the household's
-/// `"move"` stream.
+/// own small stream.
 pub struct Settle;
 
 impl Actuator<Town, Wake> for Settle {
@@ -124,7 +124,7 @@ impl Actuator<Town, Wake> for Settle {
             }
             return Ok(());
         }
-        let rng = fx.rng(DRAWS);
+        let rng = fx.small_rng(DRAWS);
         let (x, y) = loop {
             let (x, y) = (rng.random_range(0..w.side), rng.random_range(0..w.side));
             if w.cells[w.cell(x, y)].is_none() {
@@ -147,10 +147,9 @@ impl Actuator<Town, Wake> for Settle {
 #[derive(Copy, Clone, Debug, Serialize)]
 pub struct Wake;
 
-/// A household: counts, then stays or moves; next activation in the next step's window.
-pub struct Household {
-    step: u64,
-}
+/// A household: counts, then stays or moves; a member of the model's round (activated once a
+/// step, in a fresh random order).
+pub struct Household;
 
 /// The model's types.
 pub struct Model;
@@ -166,9 +165,6 @@ impl Agent<Model> for Household {
     fn handle(&mut self, _: Input<'_, Model>, cx: &mut Context<'_, Model>) {
         let (same, min_happy) = cx.sense(&Neighbours);
         let Ok(()) = cx.act(&Settle, same >= min_happy);
-        self.step += 1;
-        let delay = activation_delay(cx.now(), self.step, 0.0, 1.0, cx.rng(DRAWS));
-        cx.set_timer(delay, 0);
     }
 }
 
@@ -183,11 +179,16 @@ pub fn build(p: &Schelling, seed: u64) -> Simulation<Model> {
     };
     let mut sim = Simulation::<Model>::new(town, seed);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    // One firing at the start of each step: every household once, in a fresh random order.
+    let Ok(steps) = sim.add_round(SimTime::ZERO, STEP, 0) else {
+        return sim;
+    };
     let cells = (p.side * p.side) as u32;
     for i in 0..p.agents.min(cells) {
-        let Ok(id) = sim.add_agent(format!("home-{i}"), Household { step: 0 }) else {
+        let Ok(id) = sim.add_agent(format!("home-{i}"), Household) else {
             break;
         };
+        sim.join_round(steps, id);
         let w = sim.env_mut();
         let (x, y) = loop {
             let (x, y) = (rng.random_range(0..p.side), rng.random_range(0..p.side));
@@ -207,9 +208,6 @@ pub fn build(p: &Schelling, seed: u64) -> Simulation<Model> {
                 happy: false,
             },
         );
-        let first = SimTime::from_nanos(rng.random_range(0..STEP.as_nanos()));
-        // Scheduling at a time not in the past cannot fail on a fresh simulation.
-        let _ = sim.schedule(first, Target::Entity(id), Wake);
     }
     sim
 }
@@ -221,14 +219,19 @@ pub struct Outcome {
     pub agents: u32,
     /// Happy households after the last step.
     pub happy: u32,
-    /// Events fired.
+    /// Events fired (one a step: the round's firing).
     pub events: u64,
+}
+
+/// The end of a run of `p`: the last step's firing is at `steps - 1`.
+fn end(p: &Schelling) -> SimTime {
+    SimTime::ZERO + STEP * p.steps.saturating_sub(1)
 }
 
 /// Runs a model of `p` with `seed` for its steps.
 pub fn run(p: &Schelling, seed: u64) -> Outcome {
     let mut sim = build(p, seed);
-    sim.run_until(SimTime::ZERO + STEP * p.steps);
+    sim.run_until(end(p));
     let homes = &sim.env().homes;
     Outcome {
         agents: homes.len() as u32,
@@ -246,12 +249,20 @@ mod tests {
         let p = Schelling::SMALL;
         let out = run(&p, 3);
         assert_eq!(out.agents, p.agents);
-        assert_eq!(out.events, u64::from(p.agents) * p.steps);
+        assert_eq!(out.events, p.steps);
+        let activations = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
         let sim = {
             let mut s = build(&p, 3);
-            s.run_until(SimTime::ZERO + STEP * p.steps);
+            let a = activations.clone();
+            s.add_listener(move |_| {
+                a.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            });
+            s.run_until(end(&p));
             s
         };
+        // Every household once a step.
+        let activations = activations.load(std::sync::atomic::Ordering::Relaxed);
+        assert_eq!(activations, u64::from(p.agents) * p.steps);
         let w = sim.env();
         let mut seen = std::collections::BTreeSet::new();
         for (id, h) in w.homes.iter() {

@@ -6,12 +6,14 @@
 //! halving their energy for the newborn. Each step activates all sheep, then all wolves
 //! (each in a fresh random order), then regrows the grass. 100 steps.
 //!
-//! A newborn is an entity of its own: the breeding actuator leaves it in the field's
-//! nursery, and the run loop adds it to the simulation after the step (Vitro adds agents
-//! between runs), to be activated from the next step on. An eaten or starved animal loses
-//! its body; its agent notices at its next activation and stops.
+//! Three rounds ([`Simulation::add_round`]) make a step: the sheep's at its start, the
+//! wolves' 0.4 s in, the meadow's 0.9 s in. A newborn is an entity of its own: the breeding
+//! actuator leaves it in the field's nursery, and the run loop adds it to the simulation
+//! after the step (Vitro adds agents between runs) and to its kind's round, to be activated
+//! from the next step on. An eaten or starved animal loses its body; its agent leaves its
+//! round (the eaten one at its next activation).
 
-use crate::{DRAWS, STEP, activation_delay};
+use crate::{DRAWS, STEP};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
@@ -200,7 +202,7 @@ impl Actuator<Field, Wake> for Act {
                 let c = w.cell(a.x, a.y);
                 let n = w.flock[c].len();
                 if n > 0 {
-                    let prey = w.flock[c].swap_remove(fx.rng(DRAWS).random_range(0..n));
+                    let prey = w.flock[c].swap_remove(fx.small_rng(DRAWS).random_range(0..n));
                     w.sheep.remove(prey);
                     let gain = w.p.wolf_gain;
                     w.wolves.update(me, |s| s.energy += gain);
@@ -251,10 +253,10 @@ pub struct Wake;
 
 /// The agents: animals of either kind, and the meadow (the grass's clock).
 pub enum Beast {
-    /// An animal of a kind, and the step of its next activation.
-    Animal(Kind, u64, WolfSheep),
-    /// The meadow, and the step of its next activation.
-    Meadow(u64),
+    /// An animal: its kind, its kind's round and its reproduction probability.
+    Animal(Kind, RoundId, f64),
+    /// The meadow.
+    Meadow,
 }
 
 /// The model's types.
@@ -267,65 +269,60 @@ impl vitro::sim::Model for Model {
     type Agent = Beast;
 }
 
-/// The part of a step's window in which each agent kind is activated.
-fn window(b: &Beast) -> (f64, f64) {
-    match b {
-        Beast::Animal(Kind::Sheep, ..) => (0.0, 0.4),
-        Beast::Animal(Kind::Wolf, ..) => (0.4, 0.8),
-        Beast::Meadow(_) => (0.9, 0.9),
-    }
-}
-
 impl Agent<Model> for Beast {
     fn handle(&mut self, _: Input<'_, Model>, cx: &mut Context<'_, Model>) {
-        match self {
-            Beast::Animal(k, step, p) => {
-                let (k, p) = (*k, *p);
-                if cx.sense(&Body(k)).is_none() {
-                    return; // eaten: no more activations
-                }
-                let rng = cx.rng(DRAWS);
-                let (dx, dy) = loop {
-                    let d = (rng.random_range(-1..=1), rng.random_range(-1..=1));
-                    if d != (0, 0) {
-                        break d;
-                    }
-                };
-                let Ok(()) = cx.act(&Act(k), Deed::Walk(dx, dy));
-                let Ok(()) = cx.act(&Act(k), Deed::Eat);
-                let energy = cx.sense(&Body(k)).map_or(0.0, |a| a.energy);
-                let (dies, p_breed) = match k {
-                    Kind::Sheep => (energy < 1.0, p.sheep_reproduce),
-                    Kind::Wolf => (energy < 0.0, p.wolf_reproduce),
-                };
-                if dies {
-                    let Ok(()) = cx.act(&Act(k), Deed::Die);
-                    return;
-                }
-                if cx.rng(DRAWS).random::<f64>() < p_breed {
-                    let Ok(()) = cx.act(&Act(k), Deed::Breed);
-                }
-                *step += 1;
-            }
-            Beast::Meadow(step) => {
-                let Ok(()) = cx.act(&Grow, ());
-                *step += 1;
-            }
-        }
-        let (from, to) = window(self);
-        let step = match self {
-            Beast::Animal(_, s, _) | Beast::Meadow(s) => *s,
+        let Beast::Animal(k, round, p_breed) = *self else {
+            let Ok(()) = cx.act(&Grow, ());
+            return;
         };
-        let delay = activation_delay(cx.now(), step, from, to, cx.rng(DRAWS));
-        cx.set_timer(delay, 0);
+        if cx.sense(&Body(k)).is_none() {
+            cx.leave_round(round); // eaten
+            return;
+        }
+        let rng = cx.small_rng(DRAWS);
+        let (dx, dy) = loop {
+            let d = (rng.random_range(-1..=1), rng.random_range(-1..=1));
+            if d != (0, 0) {
+                break d;
+            }
+        };
+        let Ok(()) = cx.act(&Act(k), Deed::Walk(dx, dy));
+        let Ok(()) = cx.act(&Act(k), Deed::Eat);
+        let energy = cx.sense(&Body(k)).map_or(0.0, |a| a.energy);
+        let dies = match k {
+            Kind::Sheep => energy < 1.0,
+            Kind::Wolf => energy < 0.0,
+        };
+        if dies {
+            let Ok(()) = cx.act(&Act(k), Deed::Die);
+            cx.leave_round(round);
+            return;
+        }
+        if cx.small_rng(DRAWS).random::<f64>() < p_breed {
+            let Ok(()) = cx.act(&Act(k), Deed::Breed);
+        }
     }
 }
 
-/// Adds an animal with body `a` whose first activation falls in step `step`.
-fn add(sim: &mut Simulation<Model>, k: Kind, a: Animal, step: u64, rng: &mut ChaCha8Rng) {
+/// The rounds of a model: the sheep's and the wolves'.
+#[derive(Copy, Clone, Debug)]
+pub struct Rounds {
+    /// Activates the sheep at the start of each step.
+    pub sheep: RoundId,
+    /// Activates the wolves 0.4 s into each step.
+    pub wolves: RoundId,
+}
+
+/// Adds an animal with body `a`, activated from the next firing of its kind's round.
+fn add(sim: &mut Simulation<Model>, rounds: Rounds, k: Kind, a: Animal) {
     let p = sim.env().p;
-    let n = sim.entities().len();
-    let Ok(id) = sim.add_agent(format!("animal-{n}"), Beast::Animal(k, step, p)) else {
+    let (round, p_breed) = match k {
+        Kind::Sheep => (rounds.sheep, p.sheep_reproduce),
+        Kind::Wolf => (rounds.wolves, p.wolf_reproduce),
+    };
+    // Unnamed: an animal is known by its id (as in the other frameworks), and a run adds
+    // tens of thousands of them.
+    let Ok(id) = sim.add_agent("", Beast::Animal(k, round, p_breed)) else {
         return;
     };
     let w = sim.env_mut();
@@ -334,14 +331,11 @@ fn add(sim: &mut Simulation<Model>, k: Kind, a: Animal, step: u64, rng: &mut Cha
         w.flock[c].push(id);
     }
     w.bodies_mut(k).insert(id, a);
-    let (from, to) = window(&Beast::Animal(k, step, p));
-    let at = sim.now() + activation_delay(sim.now(), step, from, to, rng);
-    let _ = sim.schedule(at, Target::Entity(id), Wake);
+    sim.join_round(round, id);
 }
 
-/// A model built and ready to run, and the random stream that places its newborns' first
-/// activations.
-pub fn build(p: &WolfSheep, seed: u64) -> (Simulation<Model>, ChaCha8Rng) {
+/// A model built and ready to run, and its rounds.
+pub fn build(p: &WolfSheep, seed: u64) -> (Simulation<Model>, Rounds) {
     let cells = (p.side * p.side) as usize;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let grass = (0..cells)
@@ -368,8 +362,17 @@ pub fn build(p: &WolfSheep, seed: u64) -> (Simulation<Model>, ChaCha8Rng) {
         nursery: Vec::new(),
     };
     let mut sim = Simulation::<Model>::new(field, seed);
-    if let Ok(id) = sim.add_agent("meadow", Beast::Meadow(0)) {
-        let _ = sim.schedule(SimTime::from_secs_f64(0.9), Target::Entity(id), Wake);
+    let mut round = |at: f64| {
+        sim.add_round(SimTime::from_secs_f64(at), STEP, 0)
+            .expect("at time zero every instant is ahead")
+    };
+    let rounds = Rounds {
+        sheep: round(0.0),
+        wolves: round(0.4),
+    };
+    let meadow = round(0.9);
+    if let Ok(id) = sim.add_agent("meadow", Beast::Meadow) {
+        sim.join_round(meadow, id);
     }
     for (k, n, gain) in [
         (Kind::Sheep, p.sheep, p.sheep_gain),
@@ -381,10 +384,10 @@ pub fn build(p: &WolfSheep, seed: u64) -> (Simulation<Model>, ChaCha8Rng) {
                 y: rng.random_range(0..p.side),
                 energy: f64::from(rng.random_range(1..=(2.0 * gain) as u32)),
             };
-            add(&mut sim, k, a, 0, &mut rng);
+            add(&mut sim, rounds, k, a);
         }
     }
-    (sim, rng)
+    (sim, rounds)
 }
 
 /// What a run ends with.
@@ -392,19 +395,20 @@ pub fn build(p: &WolfSheep, seed: u64) -> (Simulation<Model>, ChaCha8Rng) {
 pub struct Outcome {
     /// Sheep and wolves alive after each step.
     pub counts: Vec<(u32, u32)>,
-    /// Events fired.
+    /// Events fired (three a step: the rounds' firings).
     pub events: u64,
 }
 
 /// Runs a model of `p` with `seed` for its steps.
 pub fn run(p: &WolfSheep, seed: u64) -> Outcome {
-    let (mut sim, mut rng) = build(p, seed);
+    let (mut sim, rounds) = build(p, seed);
     let mut counts = Vec::with_capacity(p.steps as usize);
     for k in 1..=p.steps {
-        sim.run_until(SimTime::ZERO + STEP * k);
+        // Step k - 1, up to (not including) the start of step k.
+        sim.run_until(SimTime::from_nanos((STEP * k).as_nanos() - 1));
         let born = std::mem::take(&mut sim.env_mut().nursery);
         for (kind, a) in born {
-            add(&mut sim, kind, a, k, &mut rng);
+            add(&mut sim, rounds, kind, a);
         }
         let w = sim.env();
         counts.push((w.sheep.len() as u32, w.wolves.len() as u32));
@@ -424,6 +428,7 @@ mod tests {
         let p = WolfSheep::SMALL;
         let out = run(&p, 11);
         assert_eq!(out.counts.len(), 100);
+        assert_eq!(out.events, 300);
         // Sheep breed fast enough to stay; the counts move (births and deaths happen).
         assert!(out.counts.iter().any(|&(s, _)| s != p.sheep));
         let (mut sim, _) = build(&p, 11);

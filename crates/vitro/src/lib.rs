@@ -84,6 +84,8 @@ pub mod prelude {
         Actuator, Effects, EntityStorage, GraphStorage, KeyValueStorage, NodeId, Probe, Sensor,
     };
     pub use crate::event::{EventId, OwnEventId, Target};
-    pub use crate::sim::{Agent, Context, CostModel, Input, Model, Simulation, StopReason};
+    pub use crate::sim::{
+        Agent, Context, CostModel, Input, Model, RoundId, Simulation, StopReason,
+    };
     pub use crate::time::{SimDuration, SimTime};
 }

@@ -16,11 +16,14 @@
 //! assert_eq!(x, y);
 //! ```
 
+mod small;
+
 use crate::entity::EntityId;
 use crate::trace::{TraceHasher, stable_str_hash};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
+pub use small::SplitMix64;
 
 /// Who owns a random stream.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -41,10 +44,45 @@ pub enum Owner {
 /// names hash alike (a chance of 2^-64 a pair) would share one stream, where they would
 /// otherwise have had two streams of the same seed. It serializes as the list of
 /// `(purpose, stream)` pairs per owner.
+///
+/// Besides the ChaCha8 streams ([`stream`](Self::stream)) it keeps small ones
+/// ([`small`](Self::small): [`SplitMix64`], 8 bytes of state) for models whose many agents
+/// each draw a few numbers per activation: an owner's first small stream is stored inline in
+/// one dense table (16 bytes an owner), so finding and drawing from it touches one cache line.
 #[derive(Clone, Debug)]
 pub struct RngStreams {
     master: u64,
     streams: Vec<Vec<Stream>>,
+    /// Per owner slot: its first small stream (`key` 0: none yet).
+    small: Vec<SmallStream>,
+    /// Small streams beyond an owner's first: (owner slot, stream).
+    small_more: Vec<(usize, SmallStream)>,
+    /// The purposes of the small streams, by hash.
+    small_names: std::collections::BTreeMap<u64, Box<str>>,
+}
+
+/// A small stream and the hash of its purpose (never 0: see [`small_key`]).
+#[derive(Copy, Clone, Debug, Default)]
+struct SmallStream {
+    key: u64,
+    rng: SplitMix64Slot,
+}
+
+/// A [`SplitMix64`] that has a `Default` (for empty table rows).
+#[derive(Copy, Clone, Debug)]
+struct SplitMix64Slot(SplitMix64);
+
+impl Default for SplitMix64Slot {
+    fn default() -> Self {
+        SplitMix64Slot(SplitMix64::new(0))
+    }
+}
+
+/// The key of a small stream's purpose: its [`stable_str_hash`], with 0 (the mark of an
+/// empty row) moved to 1.
+#[inline]
+fn small_key(purpose: &str) -> u64 {
+    stable_str_hash(purpose).max(1)
 }
 
 /// One named stream and the hash of its name. The hash comes first and the generator right
@@ -59,11 +97,15 @@ struct Stream {
 }
 
 /// The serialized form of [`RngStreams`].
+/// The small streams follow: each owner's first (purpose and generator) by owner slot, then
+/// the others as `(owner slot, purpose, generator)` in order of creation.
 #[derive(Serialize)]
 #[serde(rename = "RngStreams")]
 struct Wire<'a> {
     master: u64,
     streams: Vec<Vec<(&'a str, &'a ChaCha8Rng)>>,
+    small: Vec<Option<(&'a str, SplitMix64)>>,
+    small_more: Vec<(u64, &'a str, SplitMix64)>,
 }
 
 /// The deserialized form of [`RngStreams`].
@@ -72,10 +114,23 @@ struct Wire<'a> {
 struct WireOwned {
     master: u64,
     streams: Vec<Vec<(Box<str>, ChaCha8Rng)>>,
+    small: Vec<Option<(Box<str>, SplitMix64)>>,
+    small_more: Vec<(u64, Box<str>, SplitMix64)>,
 }
 
 impl Serialize for RngStreams {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let name = |k: &u64| self.small_names.get(k).map_or("", |n| &**n);
+        let small = self
+            .small
+            .iter()
+            .map(|x| (x.key != 0).then(|| (name(&x.key), x.rng.0)))
+            .collect();
+        let small_more = self
+            .small_more
+            .iter()
+            .map(|(slot, x)| (*slot as u64, name(&x.key), x.rng.0))
+            .collect();
         Wire {
             master: self.master,
             streams: self
@@ -83,6 +138,8 @@ impl Serialize for RngStreams {
                 .iter()
                 .map(|l| l.iter().map(|x| (&*x.name, &x.rng)).collect())
                 .collect(),
+            small,
+            small_more,
         }
         .serialize(s)
     }
@@ -91,8 +148,34 @@ impl Serialize for RngStreams {
 impl<'de> Deserialize<'de> for RngStreams {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let w = WireOwned::deserialize(d)?;
+        let mut small_names = std::collections::BTreeMap::new();
+        let mut named = |name: Box<str>, rng| {
+            let key = small_key(&name);
+            small_names.insert(key, name);
+            SmallStream {
+                key,
+                rng: SplitMix64Slot(rng),
+            }
+        };
+        let small: Vec<SmallStream> = w
+            .small
+            .into_iter()
+            .map(|x| x.map_or_else(SmallStream::default, |(n, r)| named(n, r)))
+            .collect();
+        let mut small_more = Vec::with_capacity(w.small_more.len());
+        for (slot, name, rng) in w.small_more {
+            // Only an owner with a first small stream has others.
+            let slot = usize::try_from(slot)
+                .ok()
+                .filter(|&s| small.get(s).is_some_and(|x| x.key != 0))
+                .ok_or_else(|| serde::de::Error::custom("small stream of an unknown owner"))?;
+            small_more.push((slot, named(name, rng)));
+        }
         Ok(RngStreams {
             master: w.master,
+            small,
+            small_more,
+            small_names,
             streams: w
                 .streams
                 .into_iter()
@@ -116,6 +199,9 @@ impl RngStreams {
         RngStreams {
             master: master_seed,
             streams: Vec::new(),
+            small: Vec::new(),
+            small_more: Vec::new(),
+            small_names: std::collections::BTreeMap::new(),
         }
     }
 
@@ -125,29 +211,100 @@ impl RngStreams {
     }
 
     /// The stream for (owner, purpose), created on first use.
+    #[inline]
     pub fn stream(&mut self, owner: Owner, purpose: &str) -> &mut ChaCha8Rng {
-        let slot = match owner {
-            Owner::Global => 0,
-            Owner::Entity(e) => e.index() + 1,
-        };
+        let slot = slot_of(owner);
+        let key = stable_str_hash(purpose);
+        if let Some(list) = self.streams.get(slot)
+            && let Some(i) = list.iter().position(|x| x.key == key)
+        {
+            return &mut self.streams[slot][i].rng;
+        }
+        self.new_stream(owner, purpose, key)
+    }
+
+    /// Creates the stream for (owner, purpose), whose name hashes to `key`.
+    #[cold]
+    #[inline(never)]
+    fn new_stream(&mut self, owner: Owner, purpose: &str, key: u64) -> &mut ChaCha8Rng {
+        let slot = slot_of(owner);
         if self.streams.len() <= slot {
             self.streams.resize_with(slot + 1, Vec::new);
         }
-        let key = stable_str_hash(purpose);
         let list = &mut self.streams[slot];
-        let i = match list.iter().position(|x| x.key == key) {
-            Some(i) => i,
-            None => {
-                let seed = derive_seed(self.master, owner, key);
-                list.push(Stream {
-                    key,
-                    name: purpose.into(),
-                    rng: ChaCha8Rng::from_seed(seed),
-                });
-                list.len() - 1
-            }
-        };
+        let seed = derive_seed(self.master, owner, key);
+        list.push(Stream {
+            key,
+            name: purpose.into(),
+            rng: ChaCha8Rng::from_seed(seed),
+        });
+        let i = list.len() - 1;
         &mut list[i].rng
+    }
+
+    /// The small stream ([`SplitMix64`]) for (owner, purpose), created on first use: a
+    /// stream of its own, not the ChaCha8 one of the same name, and as independent of the
+    /// other owners and purposes. For agents that draw a few numbers per activation by
+    /// the thousand: its state is 8 bytes, kept inline for an owner's first purpose.
+    ///
+    /// ```
+    /// use rand::Rng;
+    /// use vitro::entity::EntityId;
+    /// use vitro::rng::{Owner, RngStreams};
+    /// let mut a = RngStreams::new(42);
+    /// let mut b = RngStreams::new(42);
+    /// let _ = b.small(Owner::Entity(EntityId(9)), "walk").random::<u64>(); // b draws elsewhere first
+    /// let x: u64 = a.small(Owner::Entity(EntityId(1)), "walk").random();
+    /// let y: u64 = b.small(Owner::Entity(EntityId(1)), "walk").random();
+    /// assert_eq!(x, y);
+    /// ```
+    #[inline]
+    pub fn small(&mut self, owner: Owner, purpose: &str) -> &mut SplitMix64 {
+        let slot = slot_of(owner);
+        let key = small_key(purpose);
+        if self.small.get(slot).is_some_and(|x| x.key == key) {
+            return &mut self.small[slot].rng.0;
+        }
+        self.small_slow(owner, purpose, key)
+    }
+
+    /// The small stream of (owner, purpose) when it is not its owner's first, or is new.
+    #[cold]
+    #[inline(never)]
+    fn small_slow(&mut self, owner: Owner, purpose: &str, key: u64) -> &mut SplitMix64 {
+        let slot = slot_of(owner);
+        if self.small.len() <= slot {
+            self.small.resize(slot + 1, SmallStream::default());
+        }
+        if self.small[slot].key != 0 {
+            let at = self
+                .small_more
+                .iter()
+                .position(|(s, x)| *s == slot && x.key == key);
+            let at = match at {
+                Some(i) => i,
+                None => {
+                    let x = self.new_small(owner, purpose, key);
+                    self.small_more.push((slot, x));
+                    self.small_more.len() - 1
+                }
+            };
+            return &mut self.small_more[at].1.rng.0;
+        }
+        let x = self.new_small(owner, purpose, key);
+        self.small[slot] = x;
+        &mut self.small[slot].rng.0
+    }
+
+    /// A new small stream for (owner, purpose), its name remembered for snapshots.
+    fn new_small(&mut self, owner: Owner, purpose: &str, key: u64) -> SmallStream {
+        self.small_names
+            .entry(key)
+            .or_insert_with(|| purpose.into());
+        SmallStream {
+            key,
+            rng: SplitMix64Slot(SplitMix64::new(derive_small_seed(self.master, owner, key))),
+        }
     }
 
     /// A stream for (owner, purpose) independent of this set's state: same seed as
@@ -155,6 +312,29 @@ impl RngStreams {
     pub fn fresh(&self, owner: Owner, purpose: &str) -> ChaCha8Rng {
         ChaCha8Rng::from_seed(derive_seed(self.master, owner, stable_str_hash(purpose)))
     }
+}
+
+/// The index of an owner's streams: the simulation first, then entities by id.
+#[inline]
+fn slot_of(owner: Owner) -> usize {
+    match owner {
+        Owner::Global => 0,
+        Owner::Entity(e) => e.index() + 1,
+    }
+}
+
+/// The seed of a small stream: as a ChaCha stream's, with a word of its own so that the two
+/// kinds of stream of one (owner, purpose) are unrelated.
+fn derive_small_seed(master: u64, owner: Owner, purpose: u64) -> u64 {
+    let mut h = TraceHasher::default();
+    h.write_u64(master);
+    match owner {
+        Owner::Global => h.write_u64(u64::MAX),
+        Owner::Entity(e) => h.write_u64(e.0 as u64),
+    }
+    h.write_u64(purpose);
+    h.write_u64(0x5350_4C49_544D_4958); // "SPLITMIX"
+    h.finish()
 }
 
 fn derive_seed(master: u64, owner: Owner, purpose: u64) -> [u8; 32] {
@@ -208,6 +388,8 @@ mod tests {
         struct Before {
             master: u64,
             streams: Vec<Vec<(Box<str>, ChaCha8Rng)>>,
+            small: Vec<Option<(Box<str>, SplitMix64)>>,
+            small_more: Vec<(u64, Box<str>, SplitMix64)>,
         }
         let mut s = RngStreams::new(9);
         let _: u64 = s.stream(Owner::Global, "a").random();
@@ -224,6 +406,8 @@ mod tests {
                     ("c".into(), rng(&mut s, Owner::Entity(EntityId(1)), "c")),
                 ],
             ],
+            small: vec![],
+            small_more: vec![],
         };
         let bytes = postcard::to_stdvec(&s).unwrap();
         assert_eq!(bytes, postcard::to_stdvec(&before).unwrap());
@@ -231,5 +415,42 @@ mod tests {
         let x: u64 = s.stream(Owner::Entity(EntityId(1)), "c").random();
         let y: u64 = r.stream(Owner::Entity(EntityId(1)), "c").random();
         assert_eq!(x, y);
+    }
+
+    #[test]
+    fn small_streams_are_independent_and_survive_a_round_trip() {
+        let mut s = RngStreams::new(5);
+        let e = |i| Owner::Entity(EntityId(i));
+        let a: u64 = s.small(e(3), "walk").random();
+        let b: u64 = s.small(e(3), "breed").random(); // not the owner's first: the overflow
+        let c: u64 = s.small(e(4), "walk").random();
+        let d: u64 = s.small(Owner::Global, "walk").random();
+        let chacha: u64 = s.stream(e(3), "walk").random();
+        let all = [a, b, c, d, chacha];
+        for (i, x) in all.iter().enumerate() {
+            assert!(all[i + 1..].iter().all(|y| y != x), "{all:?}");
+        }
+        // The same draws from a fresh set, whatever the order of creation.
+        let mut t = RngStreams::new(5);
+        assert_eq!(t.small(e(4), "walk").random::<u64>(), c);
+        assert_eq!(t.small(e(3), "breed").random::<u64>(), b);
+        assert_eq!(t.small(e(3), "walk").random::<u64>(), a);
+        // A snapshot continues each stream where it was.
+        let bytes = postcard::to_stdvec(&s).unwrap();
+        let mut r: RngStreams = postcard::from_bytes(&bytes).unwrap();
+        for (o, p) in [
+            (e(3), "walk"),
+            (e(3), "breed"),
+            (e(4), "walk"),
+            (Owner::Global, "walk"),
+        ] {
+            let x: u64 = s.small(o, p).random();
+            let y: u64 = r.small(o, p).random();
+            assert_eq!(x, y, "{o:?} {p}");
+        }
+        assert_eq!(
+            postcard::to_stdvec(&r).unwrap(),
+            postcard::to_stdvec(&s).unwrap()
+        );
     }
 }

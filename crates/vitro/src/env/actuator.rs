@@ -52,8 +52,14 @@ impl<'a, Ev> Effects<'a, Ev> {
         self.owner
     }
     /// The owner's random stream for `purpose`.
+    #[inline]
     pub fn rng(&mut self, purpose: &str) -> &mut ChaCha8Rng {
         self.rngs.stream(self.owner, purpose)
+    }
+    /// The owner's small random stream for `purpose` ([`RngStreams::small`]).
+    #[inline]
+    pub fn small_rng(&mut self, purpose: &str) -> &mut crate::rng::SplitMix64 {
+        self.rngs.small(self.owner, purpose)
     }
     /// Schedules `event` for `target` after `delay`.
     pub fn schedule_in(&mut self, delay: SimDuration, target: Target, event: Ev) -> EventId {

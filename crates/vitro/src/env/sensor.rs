@@ -26,8 +26,14 @@ impl<'a> Probe<'a> {
         self.owner
     }
     /// The owner's random stream for `purpose` (e.g. measurement noise).
+    #[inline]
     pub fn rng(&mut self, purpose: &str) -> &mut ChaCha8Rng {
         self.rngs.stream(Owner::Entity(self.owner), purpose)
+    }
+    /// The owner's small random stream for `purpose` ([`RngStreams::small`]).
+    #[inline]
+    pub fn small_rng(&mut self, purpose: &str) -> &mut crate::rng::SplitMix64 {
+        self.rngs.small(Owner::Entity(self.owner), purpose)
     }
 }
 

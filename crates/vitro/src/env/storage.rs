@@ -57,6 +57,7 @@ impl<T> Default for EntityStorage<T> {
 }
 
 impl<T: Serialize> EntityStorage<T> {
+    #[inline]
     fn record(&mut self, id: EntityId, op: u64) {
         let log = &mut self.log;
         log.ring[(log.writes % WRITE_LOG as u64) as usize] = id;

@@ -467,16 +467,34 @@ impl<T> EventQueue<T> {
             self.peek_time()?;
             self.heap.pop_peeked()?
         };
+        Some(self.take(e))
+    }
+
+    /// [`pop`](Self::pop) right after [`peek_time`](Self::peek_time) returned a time, with
+    /// nothing pushed, popped or cancelled in between: the same event, without looking for
+    /// it again.
+    #[inline]
+    pub(crate) fn pop_peeked(&mut self) -> Option<Popped<T>> {
+        if self.ties.is_some() {
+            return self.pop();
+        }
+        let e = self.heap.pop_peeked()?;
+        Some(self.take(e))
+    }
+
+    /// Frees the slot of the live entry `e` and returns its event, now current.
+    #[inline(always)]
+    fn take(&mut self, e: Entry) -> Popped<T> {
         let Slot::Pending { seq, payload } = self.free(e.slot) else {
             unreachable!("a live entry's slot is pending")
         };
         self.pending -= 1;
         self.now = SimTime::from_nanos(e.time);
-        Some(Popped {
+        Popped {
             time: self.now,
             id: EventId { seq, slot: e.slot },
             payload,
-        })
+        }
     }
 
     /// The pending events in firing order (for snapshots and inspection).

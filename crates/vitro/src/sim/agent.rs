@@ -4,6 +4,7 @@
 //! in one file.
 
 use super::kernel::{Kernel, Queued};
+use super::round::RoundId;
 use crate::comm::{DeliveryError, Envelope, GroupId, Network, Outgoing, Route};
 use crate::entity::{CapabilityRegister, EntityId};
 use crate::env::{Actuator, Effects, Probe, Sensor};
@@ -299,8 +300,27 @@ impl<'a, M: Model> Context<'a, M> {
     }
 
     /// This agent's random stream for `purpose`.
+    #[inline]
     pub fn rng(&mut self, purpose: &str) -> &mut ChaCha8Rng {
         self.k.rngs.stream(Owner::Entity(self.me), purpose)
+    }
+
+    /// Joins `round` ([`Simulation::add_round`](super::Simulation::add_round)): from its next
+    /// firing on, this agent is activated once per firing; false if it was a member already.
+    pub fn join_round(&mut self, round: RoundId) -> bool {
+        self.k.join_round(round, self.me)
+    }
+    /// Leaves `round`; false if this agent was not a member.
+    pub fn leave_round(&mut self, round: RoundId) -> bool {
+        self.k.leave_round(round, self.me)
+    }
+
+    /// This agent's small random stream for `purpose`
+    /// ([`RngStreams::small`](crate::rng::RngStreams::small): SplitMix64, 8 bytes of state):
+    /// for agents by the thousand that draw a few numbers per activation.
+    #[inline]
+    pub fn small_rng(&mut self, purpose: &str) -> &mut crate::rng::SplitMix64 {
+        self.k.rngs.small(Owner::Entity(self.me), purpose)
     }
 
     /// Sends a message through the simulated network. Each copy is delivered later, lost, or

@@ -4,12 +4,13 @@ use super::agent::{Agent, Input, Model};
 use super::agent::{Context, EventOnly};
 use super::control::{Clock, Control, ControlState, WallClock};
 use super::kernel::{Kernel, Queued};
+use super::round::{Round, RoundId};
 use crate::comm::Network;
 use crate::entity::{CapabilityRegister, Entities, EntityError, EntityId};
 use crate::env::Effects;
-use crate::event::{EventId, ScheduleError, Target};
+use crate::event::{EventId, Popped, ScheduleError, Target};
 use crate::rng::{Owner, RngStreams};
-use crate::time::SimTime;
+use crate::time::{SimDuration, SimTime};
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
@@ -119,7 +120,8 @@ impl<M: Model> Simulation<M> {
         Ok(id)
     }
 
-    /// Creates an entity driven by `agent`. Broadcasts reach agents in this order.
+    /// Creates an entity driven by `agent`. Broadcasts reach agents in this order. An empty
+    /// `name` makes an unnamed entity ([`Entities`]: known by its id only).
     pub fn add_agent(
         &mut self,
         name: impl Into<String>,
@@ -198,6 +200,69 @@ impl<M: Model> Simulation<M> {
         self.k.queue.cancel(id)
     }
 
+    /// A new round: from `first` on, every `period` (at least a nanosecond), it activates
+    /// each of its members once with [`Input::Timer(key)`](Input::Timer), in a fresh random
+    /// order each time (drawn from the run's small stream `"round_order"`), as one event of
+    /// the queue. Members join with [`join_round`](Self::join_round) or
+    /// [`Context::join_round`]; a round without members is idle (no event) until one joins.
+    /// An agent joining during a firing is activated from the next one on; a stop request
+    /// takes effect once the firing is done.
+    ///
+    /// ```
+    /// use vitro::prelude::*;
+    /// struct M;
+    /// impl Model for M { type Env = (); type Event = (); type Msg = (); type Agent = Walker; }
+    /// struct Walker(Vec<SimTime>);
+    /// impl Agent<M> for Walker {
+    ///     fn handle(&mut self, input: Input<'_, M>, cx: &mut Context<'_, M>) {
+    ///         if let Input::Timer(7) = input {
+    ///             self.0.push(cx.now());
+    ///         }
+    ///     }
+    /// }
+    /// let mut sim = Simulation::<M>::new((), 1);
+    /// let step = sim.add_round(SimTime::ZERO, SimDuration::from_secs(1), 7).unwrap();
+    /// for i in 0..3 {
+    ///     let a = sim.add_agent(format!("w{i}"), Walker(Vec::new())).unwrap();
+    ///     sim.join_round(step, a);
+    /// }
+    /// sim.run_until(SimTime::from_secs(2));
+    /// let a = sim.entities().lookup("w0").unwrap();
+    /// assert_eq!(sim.agent(a).unwrap().0.len(), 3); // at 0, 1 and 2 s
+    /// assert_eq!(sim.events_fired(), 3); // one event per firing
+    /// ```
+    pub fn add_round(
+        &mut self,
+        first: SimTime,
+        period: SimDuration,
+        key: u64,
+    ) -> Result<RoundId, ScheduleError> {
+        let now = self.k.queue.now();
+        if first < now {
+            return Err(ScheduleError::InThePast { at: first, now });
+        }
+        let id = RoundId(u32::try_from(self.k.rounds.len()).expect("more than 2^32 rounds"));
+        self.k.rounds.push(Round {
+            key,
+            period: SimDuration::from_nanos(period.as_nanos().max(1)),
+            next_at: first,
+            ..Round::default()
+        });
+        Ok(id)
+    }
+    /// Makes `agent` a member of `round`; false if it was one or there is no such round.
+    pub fn join_round(&mut self, round: RoundId, agent: EntityId) -> bool {
+        self.k.join_round(round, agent)
+    }
+    /// Ends `agent`'s membership of `round`; false if it was not a member.
+    pub fn leave_round(&mut self, round: RoundId, agent: EntityId) -> bool {
+        self.k.leave_round(round, agent)
+    }
+    /// Number of members of `round` (0 if there is no such round).
+    pub fn round_len(&self, round: RoundId) -> usize {
+        self.k.rounds.get(round.0 as usize).map_or(0, Round::len)
+    }
+
     /// The simulated time of the last fired event.
     pub fn now(&self) -> SimTime {
         self.k.queue.now()
@@ -234,6 +299,12 @@ impl<M: Model> Simulation<M> {
     /// Fires the next event, ignoring pacing and control. Returns its time, `None` if empty.
     pub fn step(&mut self) -> Option<SimTime> {
         let p = self.k.queue.pop()?;
+        Some(self.fire(p))
+    }
+
+    /// Fires a popped event: traces it, hands it to its receivers and the listeners.
+    #[inline]
+    fn fire(&mut self, p: Popped<Queued<M::Event, M::Msg>>) -> SimTime {
         let t = p.time;
         self.k.fired += 1;
         let tr = &mut self.k.trace;
@@ -274,6 +345,16 @@ impl<M: Model> Simulation<M> {
                 tr.write_u64(*key);
                 (Target::Entity(*who), Input::Timer(*key))
             }
+            Queued::Round(r) => {
+                tr.write_u64((1 << 61) | u64::from(*r));
+                self.fire_round(t, p.id, *r);
+                self.control
+                    .0
+                    .sim_now
+                    .store(t.as_nanos(), Ordering::Release);
+                self.control.0.fired.store(self.k.fired, Ordering::Release);
+                return t;
+            }
         };
         match target {
             Target::Entity(e) => self.deliver(e, input),
@@ -311,7 +392,48 @@ impl<M: Model> Simulation<M> {
             .sim_now
             .store(t.as_nanos(), Ordering::Release);
         self.control.0.fired.store(self.k.fired, Ordering::Release);
-        Some(t)
+        t
+    }
+
+    /// Fires round `r`: its members in a fresh random order, each traced and activated.
+    fn fire_round(&mut self, t: SimTime, id: EventId, r: u32) {
+        use rand::Rng;
+        let Some(round) = self.k.rounds.get_mut(r as usize) else {
+            return;
+        };
+        round.pending = false;
+        let (key, period) = (round.key, round.period);
+        let mut order = std::mem::take(&mut round.members);
+        let rng = self.k.rngs.small(Owner::Global, "round_order");
+        for i in (1..order.len()).rev() {
+            order.swap(i, rng.random_range(0..=i));
+        }
+        for &e in &order {
+            if !self.k.rounds[r as usize].is_active(e) {
+                continue;
+            }
+            self.k.trace.write_u64(u64::from(e.0));
+            self.deliver(e, Input::Timer(key));
+            if !self.listeners.is_empty() {
+                let fired = Fired {
+                    time: t,
+                    id,
+                    target: Target::Entity(e),
+                    input: Input::Timer(key),
+                };
+                for l in &mut self.listeners {
+                    l(&fired);
+                }
+            }
+        }
+        let round = &mut self.k.rounds[r as usize];
+        round.settle(order);
+        round.next_at = t + period;
+        if !round.members.is_empty() {
+            round.pending = true;
+            // Later than now: the period is at least a nanosecond.
+            let _ = self.k.queue.push(round.next_at, Queued::Round(r));
+        }
     }
 
     fn deliver(&mut self, e: EntityId, input: Input<'_, M>) {
@@ -396,7 +518,10 @@ impl<M: Model> Simulation<M> {
                 s.steps -= 1;
                 st.steps = s.steps;
             }
-            self.step();
+            // The event just peeked at: nothing touched the queue since.
+            if let Some(p) = self.k.queue.pop_peeked() {
+                self.fire(p);
+            }
             if self.k.stop_requested {
                 self.k.stop_requested = false;
                 return StopReason::Requested;

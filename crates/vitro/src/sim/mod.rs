@@ -9,9 +9,11 @@ mod agent;
 pub mod control;
 mod driver;
 mod kernel;
+mod round;
 mod snapshot;
 
 pub use agent::{Agent, Context, CostModel, Input, Model};
 pub use control::{Clock, Control, ControlError, ManualClock, WallClock};
 pub use driver::{Fired, Simulation, StopReason};
+pub use round::RoundId;
 pub use snapshot::{SimState, SimStateRef, SnapshotError};

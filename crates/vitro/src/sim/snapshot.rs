@@ -19,7 +19,9 @@ type State<M> = (
     Kernel<<M as Model>::Event, <M as Model>::Msg>,
 );
 
-const MAGIC: &[u8; 8] = b"VITROSN1";
+/// The header; its number changes with the layout (2: rounds, small random streams, entity
+/// names without their index), so that an older snapshot is refused as such.
+const MAGIC: &[u8; 8] = b"VITROSN2";
 
 /// Why a snapshot could not be written or read.
 #[derive(Debug, thiserror::Error)]
