@@ -25,6 +25,15 @@ fn sample() -> Calibration {
             fit_residuals: Residuals::of(&[10.0, 20.0], &[9.0, 18.0], &[10.5, 19.0]),
             held_out: Residuals::default(),
         }],
+        squads: vec![squad::SquadFit {
+            level: "discrete".into(),
+            concrete: "directed".into(),
+            normal: 1.1,
+            slow: 1.9,
+            walks: 4,
+            calm: Residuals::default(),
+            contact: Residuals::default(),
+        }],
         trips: vec![],
     }
 }
@@ -76,4 +85,23 @@ fn residuals_are_signed_relative_errors() {
     assert!((r.bias_pct_before + 20.0).abs() < 1e-9);
     assert!((r.mape_pct_after - 2.5).abs() < 1e-9);
     assert!((r.max_pct_after - 5.0).abs() < 1e-9);
+}
+
+#[test]
+fn the_pace_stretch_is_the_squad_fit_of_the_level() {
+    let mut c = sample();
+    assert_eq!(c.pace_stretch(Level::Discrete, true), Some(1.9));
+    assert_eq!(c.pace_stretch(Level::Discrete, false), Some(1.1));
+    assert_eq!(c.pace_stretch(Level::Interpolated, true), None);
+    c.squads.clear();
+    assert_eq!(c.pace_stretch(Level::Discrete, true), None);
+}
+
+#[test]
+fn a_file_without_squad_fits_still_reads() {
+    let mut c = sample();
+    c.squads.clear();
+    let text = c.to_toml().unwrap();
+    assert!(!text.contains("[[squad]]"));
+    assert_eq!(Calibration::parse(&text).unwrap(), c);
 }
