@@ -191,6 +191,25 @@ pub struct Fit {
     pub held_out: Residuals,
 }
 
+/// The fitted pace of squad walks at an abstract level ([`squad`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SquadFit {
+    /// The abstract level (`discrete`).
+    pub level: String,
+    /// The concrete level it predicts (`directed`).
+    pub concrete: String,
+    /// Stretch of the leader's hops at normal pace.
+    pub normal: f64,
+    /// Stretch of the leader's hops at slow pace.
+    pub slow: f64,
+    /// Walks fitted (calm and in contact).
+    pub walks: usize,
+    /// Walk times without / with the stretches against the concrete level's, calm walks.
+    pub calm: Residuals,
+    /// The same, walks in contact.
+    pub contact: Residuals,
+}
+
 /// How far an abstract level's trip times are from the concrete level's.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Residuals {
@@ -300,7 +319,7 @@ pub struct Calibration {
     pub fits: Vec<Fit>,
     /// The squads' pace at the abstract levels ([`squad`]); none in a file made before it.
     #[serde(rename = "squad", default)]
-    pub squads: Vec<squad::SquadFit>,
+    pub squads: Vec<SquadFit>,
     /// The sample trips.
     #[serde(rename = "trip", default)]
     pub trips: Vec<TripRecord>,

@@ -14,7 +14,7 @@
 //! ([`crate::actuate::troop::discrete::PacedWalkToNode`]).
 
 use super::trips::{Trip, par_map};
-use super::{Calibration, Residuals};
+use super::{Calibration, Residuals, SquadFit};
 use crate::arena::Ev;
 use crate::behaviour::formation::{FormationParams, LEADER_PROGRAM, Leader, Member, Script};
 use crate::check::{CheckError, Setup};
@@ -24,7 +24,6 @@ use crate::model::Tactical;
 use crate::radio::{Order, Radio};
 use crate::types::TroopKind;
 use crate::world::Side;
-use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::event::Target;
@@ -39,25 +38,6 @@ pub const CONTACT_EVERY_S: f64 = 10.0;
 pub const CONTACT_M: f64 = 80.0;
 /// When the walk is ordered, seconds after the start.
 const ORDER_S: f64 = 1.0;
-
-/// The fitted pace of squad walks at an abstract level.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SquadFit {
-    /// The abstract level (`discrete`).
-    pub level: String,
-    /// The concrete level it predicts (`directed`).
-    pub concrete: String,
-    /// Stretch of the leader's hops at normal pace.
-    pub normal: f64,
-    /// Stretch of the leader's hops at slow pace.
-    pub slow: f64,
-    /// Walks fitted (calm and in contact).
-    pub walks: usize,
-    /// Walk times without / with the stretches against the concrete level's, calm walks.
-    pub calm: Residuals,
-    /// The same, walks in contact.
-    pub contact: Residuals,
-}
 
 /// A sample squad walk: a trooper trip's ends, calm or in contact.
 #[derive(Copy, Clone, Debug)]
@@ -89,7 +69,7 @@ fn walk(setup: &Setup, w: &Walk, level: Level) -> Result<Option<f64>, CheckError
     for k in 0..MEMBERS {
         let m = Member::new(leader_id, params.clone());
         ids.push(
-            sim.add_agent(&format!("member-{k}"), Box::new(m))
+            sim.add_agent(format!("member-{k}"), Box::new(m))
                 .map_err(|e| err(e.to_string()))?,
         );
     }

@@ -17,6 +17,11 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use vitro::env::NodeId;
 
+/// Largest start heading off the way a sample trip is given, radians: a right angle, the
+/// turn onto the next street at a junction where a leg ended (a U-turn is another
+/// manoeuvre, which a turn rate does not describe).
+pub const MAX_START_OFF: f64 = std::f64::consts::FRAC_PI_2;
+
 /// One sample trip.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct Trip {
@@ -29,7 +34,8 @@ pub struct Trip {
     /// True if the fit may use it (else it is held out for evaluation).
     pub fit: bool,
     /// The body's start heading off the path's first piece, radians (every other trip
-    /// starts turned by a drawn angle: a start off the way, as at a leg's end).
+    /// starts turned by an angle drawn up to [`MAX_START_OFF`]: a start off the way, as at
+    /// a leg's end).
     pub start_off: f64,
 }
 
@@ -163,7 +169,7 @@ pub fn sample(setup: &Setup, s: &Sampling) -> Vec<Trip> {
                 continue;
             }
             let start_off = if made % 2 == 1 {
-                rng.random_range(-std::f64::consts::PI..std::f64::consts::PI)
+                rng.random_range(-MAX_START_OFF..MAX_START_OFF)
             } else {
                 0.0
             };
