@@ -13,6 +13,8 @@ are 1..N, so any row can be re-run alone. With `--calibration FILE` the scenario
 `[fidelity] calibration = FILE` (a copy of it next to the original, removed afterwards).
 """
 import argparse, csv, json, math, os, statistics, subprocess, sys
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from table_stats import wilson, mean_ci
 from concurrent.futures import ThreadPoolExecutor
 
 def run(binary, scenario, level, seed, until):
@@ -64,7 +66,7 @@ def table(a):
     errors = [r for r in rows if "error" in r]
     for e in errors:
         print(f"run {e['level']} seed {e['seed']} failed: {e['error']}", file=sys.stderr)
-    print("| level | runs | success rate (95% CI) | mean time to extraction, s (95% CI) (sd) | casualties / run | HVT captured | mean capture time, s | sim s per wall s |")
+    print("| level | runs | success rate [Wilson 95% CI] | mean time to extraction, s ± 95% CI (sd) | casualties / run | HVT captured | mean capture time, s | sim s per wall s |")
     print("|---|---|---|---|---|---|---|---|")
     for l in levels:
         rs = [r for r in rows if r["level"] == l and "error" not in r]
@@ -73,16 +75,30 @@ def table(a):
         n = len(rs)
         k = sum(1 for r in rs if r["success"])
         p = k / n
-        h = 1.96 * math.sqrt(p * (1 - p) / n)
+        lo, hi = wilson(k, n)
         t = [r["time_to_extraction_s"] for r in rs if r["success"]]
-        ci = 1.96 * statistics.stdev(t) / math.sqrt(len(t)) if len(t) > 1 else 0.0
-        mt = f"{statistics.mean(t):.1f} ± {ci:.1f} ({statistics.pstdev(t):.1f})" if t else "-"
+        mean, ci = mean_ci(t)
+        mt = f"{mean:.1f} ± {ci:.1f} ({statistics.pstdev(t):.1f})" if len(t) > 1 else "-"
         cas = statistics.mean(r["casualties"] for r in rs)
         hvt = sum(1 for r in rs if r["hvt_captured"]) / n
         ct = [r["hvt_capture_s"] for r in rs if r["hvt_captured"] and r.get("hvt_capture_s")]
         mct = f"{statistics.mean(ct):.0f}" if ct else "-"
         speed = statistics.median(r["sim_s_per_wall_s"] for r in rs)
-        print(f"| {l} | {n} | {p:.2f} ± {h:.2f} | {mt} | {cas:.2f} | {hvt:.2f} | {mct} | {speed:.0f} |")
+        print(f"| {l} | {n} | {p:.2f} [{lo:.2f}, {hi:.2f}] | {mt} | {cas:.2f} | {hvt:.2f} | {mct} | {speed:.0f} |")
+    # The abstract levels against the physical one, seed by seed (seeds where both succeed).
+    conc = {r["seed"]: r for r in rows if r["level"] == "physical" and "error" not in r}
+    for l in levels:
+        if l == "physical" or not conc:
+            continue
+        pairs = [(r["time_to_extraction_s"], conc[r["seed"]]["time_to_extraction_s"])
+                 for r in rows if r["level"] == l and "error" not in r and r["success"]
+                 and r["seed"] in conc and conc[r["seed"]]["success"]]
+        if len(pairs) < 2:
+            continue
+        d, ci = mean_ci([x - y for x, y in pairs])
+        base = statistics.mean(y for _, y in pairs)
+        print(f"\n{l} - physical, paired over {len(pairs)} seeds: {d:+.1f} ± {ci:.1f} s "
+              f"({100 * d / base:+.1f} % ± {100 * ci / base:.1f} % of {base:.1f} s)")
     if a.out:
         keys = ["level", "seed", "success", "time_to_extraction_s", "casualties",
                 "adversaries_detected", "time_uncovered_s", "hvt_captured", "messages_sent",

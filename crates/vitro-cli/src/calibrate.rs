@@ -9,7 +9,7 @@ use clap::Args;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
-use vitro_batch::plot::{Scatter, plot_scatter};
+use vitro_batch::plot::{Scatter, plot_residuals};
 use vitro_site::map::{MapConfig, TownMap};
 use vitro_site::site::{Site, SiteConfig};
 use vitro_site::terrain::Terrain;
@@ -159,7 +159,8 @@ pub(crate) fn calibrate(args: &CalibrateArgs) -> Result<(), Failure> {
         args.out.display()
     );
     if let Some(stem) = &args.plot {
-        let files = plot_scatter(&scatter(&cal), stem).map_err(|e| Failure::Runtime(e.into()))?;
+        let files =
+            plot_residuals(&scatter(&cal), 5.0, stem).map_err(|e| Failure::Runtime(e.into()))?;
         for f in files {
             println!("plot: {}", f.display());
         }
@@ -170,18 +171,19 @@ pub(crate) fn calibrate(args: &CalibrateArgs) -> Result<(), Failure> {
 /// The fits and their residuals as a Markdown table.
 pub(crate) fn summary(cal: &Calibration) -> String {
     let mut s = String::from(
-        "| entity | level | alpha | beta s | kappa s/rad | gamma s/m | fit: bias % before -> after (MAPE) | held out: bias % before -> after (MAPE, max) |\n|---|---|---|---|---|---|---|---|\n",
+        "| entity | level | alpha | beta s | kappa s/rad | gamma s/m | delta s/rad | fit: bias % before -> after (MAPE) | held out: bias % before -> after (MAPE, max) |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     for f in &cal.fits {
         let (r, h) = (&f.fit_residuals, &f.held_out);
         s.push_str(&format!(
-            "| {} | {} | {:.3} | {:.1} | {:.2} | {:.3} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}, max {:.1}), n={} |\n",
+            "| {} | {} | {:.3} | {:.1} | {:.2} | {:.3} | {:.2} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}, max {:.1}), n={} |\n",
             f.entity,
             f.level,
             f.alpha,
             f.beta,
             f.kappa,
             f.gamma,
+            f.delta,
             r.bias_pct_before,
             r.bias_pct_after,
             r.mape_pct_before,
@@ -195,10 +197,36 @@ pub(crate) fn summary(cal: &Calibration) -> String {
             h.n
         ));
     }
+    if !cal.squads.is_empty() {
+        s.push_str(
+            "\n| squad pace | concrete | normal stretch | slow stretch | calm walks: bias % before -> after (MAPE) | walks in contact: bias % before -> after (MAPE) |\n|---|---|---|---|---|---|\n",
+        );
+    }
+    for f in &cal.squads {
+        let (c, k) = (&f.calm, &f.contact);
+        s.push_str(&format!(
+            "| {} | {} | {:.3} | {:.3} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} |\n",
+            f.level,
+            f.concrete,
+            f.normal,
+            f.slow,
+            c.bias_pct_before,
+            c.bias_pct_after,
+            c.mape_pct_before,
+            c.mape_pct_after,
+            c.n,
+            k.bias_pct_before,
+            k.bias_pct_after,
+            k.mape_pct_before,
+            k.mape_pct_after,
+            k.n
+        ));
+    }
     s
 }
 
-/// Abstract against concrete trip times, per level, before and after calibration.
+/// The abstract levels' relative errors against the concrete trip times, per level,
+/// before and after calibration.
 fn scatter(cal: &Calibration) -> Scatter {
     let mut groups: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     for level in ["discrete", "interpolated"] {
@@ -208,7 +236,8 @@ fn scatter(cal: &Calibration) -> Scatter {
                 .iter()
                 .filter_map(|t| {
                     let m = if after { &t.after_s } else { &t.before_s };
-                    m.get(level).map(|&y| (t.concrete_s, y))
+                    let c = t.concrete_s.max(1e-9);
+                    m.get(level).map(|&y| (t.concrete_s, 100.0 * (y - c) / c))
                 })
                 .collect();
             if !pts.is_empty() {
@@ -217,14 +246,14 @@ fn scatter(cal: &Calibration) -> Scatter {
         }
     }
     Scatter {
-        title: "Abstract-level trip time against the concrete level's".into(),
+        title: "Abstract-level trip time error against the concrete level".into(),
         note: format!(
-            "{} sample trips (vehicles vs physical, troopers vs directed), fitted and held out; map {}",
+            "{} sample trips (vehicles vs physical, troopers vs directed), fitted and held out; map {}; negative = optimistic",
             cal.trips.len(),
             cal.map
         ),
         x_desc: "concrete trip time, s".into(),
-        y_desc: "abstract-level trip time, s".into(),
+        y_desc: "(abstract - concrete) / concrete, %".into(),
         groups,
     }
 }

@@ -1,5 +1,6 @@
 //! Calibration of the abstract levels on a tiny trip set: the same file whatever the thread
-//! count, and the calibrated discrete level closer to the physical one than the plain one.
+//! count, and the calibrated discrete level closer to the physical one than the plain one
+//! (trips), and to the directed one (squad walks in contact).
 
 mod common;
 
@@ -40,8 +41,9 @@ fn calibration_is_the_same_on_one_thread_and_two() {
     let one = calibrate(&s, &trips, &to, &Stamp::default(), 1, &|| {}).unwrap();
     let two = calibrate(&s, &trips, &to, &Stamp::default(), 2, &|| {}).unwrap();
     assert_eq!(one, two);
-    // Truck: discrete and interpolated; trooper: discrete.
+    // Truck: discrete and interpolated; trooper: discrete; and the squads' pace.
     assert_eq!(one.fits.len(), 3);
+    assert_eq!(one.squads.len(), 1);
     assert_eq!(one.trips.len(), 8);
     // The round trip through the file keeps every figure.
     let back = vitro_tactical::calibrate::Calibration::parse(&one.to_toml().unwrap()).unwrap();
@@ -54,6 +56,17 @@ fn the_calibrated_discrete_level_predicts_the_physical_one_better() {
     let to = [Level::Discrete];
     let trips = sample(&s, &tiny(9, 4, 0));
     let cal = Arc::new(calibrate(&s, &trips, &to, &Stamp::default(), 2, &|| {}).unwrap());
+    // A discrete hop cannot slow down: in contact the plain discrete squad is early; the
+    // slow pace's stretch takes most of that away.
+    let sq = &cal.squads[0];
+    let r = &sq.contact;
+    assert!(r.n >= 3, "{sq:?}");
+    assert!(sq.slow > 1.1, "{sq:?}");
+    assert!(r.bias_pct_before < -10.0, "{r:?}");
+    assert!(
+        r.bias_pct_after.abs() < r.bias_pct_before.abs() / 2.0,
+        "{r:?}"
+    );
     // Fresh trips the fit did not see.
     let fresh = sample(&s, &tiny(77, 0, 3));
     let rows = evaluate(&s, &cal, &fresh, &to, 5.0, 2, &|| {}).unwrap();

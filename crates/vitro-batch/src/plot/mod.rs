@@ -17,7 +17,7 @@ mod error;
 mod scatter;
 mod search;
 pub use crate::stats;
-pub use scatter::{Scatter, plot_scatter};
+pub use scatter::{Scatter, plot_residuals, plot_scatter};
 pub use search::{SearchCurves, plot_search_curves};
 
 use crate::design::Origin;

@@ -64,3 +64,68 @@ pub fn plot_scatter(scatter: &Scatter, stem: &Path) -> Result<Vec<PathBuf>, Plot
     });
     draw::save(&chart, stem)
 }
+
+/// Draws `scatter` to `STEM.png` and `STEM.svg` as residuals: its y values are errors
+/// (e.g. relative errors in %), drawn over the line `y = 0` shaded from `-band` to `band`
+/// across the range of the data.
+pub fn plot_residuals(
+    scatter: &Scatter,
+    band: f64,
+    stem: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let dot = |x: f64, y: f64| {
+        (
+            x,
+            MeanCi {
+                n: 1,
+                mean: y,
+                lo: y,
+                hi: y,
+            },
+        )
+    };
+    let all = scatter.groups.iter().flat_map(|(_, p)| p.iter());
+    let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(x, _)| {
+        (lo.min(x), hi.max(x))
+    });
+    let mut lines: Vec<Line> = scatter
+        .groups
+        .iter()
+        .map(|(label, pts)| Line {
+            label: Some(format!("{label} (n = {})", pts.len())),
+            connect: false,
+            points: pts.iter().map(|&(x, y)| dot(x, y)).collect(),
+        })
+        .collect();
+    if lo.is_finite() && hi > lo {
+        // y = 0, shaded from -band to +band.
+        let edge = |x: f64| {
+            (
+                x,
+                MeanCi {
+                    n: 1,
+                    mean: 0.0,
+                    lo: -band,
+                    hi: band,
+                },
+            )
+        };
+        // Drawn first, under the dots.
+        lines.insert(
+            0,
+            Line {
+                label: Some(format!("no error, band ±{band}")),
+                connect: true,
+                points: vec![edge(lo), edge(hi)],
+            },
+        );
+    }
+    let chart = Chart::Xy(XyChart {
+        title: scatter.title.clone(),
+        x_desc: scatter.x_desc.clone(),
+        y_desc: scatter.y_desc.clone(),
+        note: scatter.note.clone(),
+        lines,
+    });
+    draw::save(&chart, stem)
+}

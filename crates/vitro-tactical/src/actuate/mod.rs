@@ -20,7 +20,7 @@ mod trip;
 pub mod troop;
 
 pub use trip::{MoveError, on_hop};
-pub(crate) use trip::{arrived, plan, stalled, start_trip};
+pub(crate) use trip::{arrived, plan, stalled, start_paced_trip, start_trip};
 
 use crate::arena::{Arena, Clock, Ev};
 use vitro::env::Effects;

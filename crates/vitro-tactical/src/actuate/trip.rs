@@ -41,16 +41,18 @@ pub(crate) fn arrived(who: EntityId, goal: NodeId, fx: &mut Effects<'_, Ev>) {
     fx.schedule_in(SimDuration::ZERO, Target::Entity(who), Ev::Arrived(goal));
 }
 
-/// The track from `from` to `goal` for a body of `kind` at `level` (planned once per arena,
-/// then shared). At an abstract level (discrete, interpolated) with a fit in the arena's
-/// [`calibration`](Arena::calibration), the profile is stretched to the predicted concrete
-/// time ([`crate::calibrate`]); otherwise it is the plan itself.
+/// The track from `from` to `goal` for a body of `kind` at `level` heading `heading`
+/// (planned once per arena, then shared). At an abstract level (discrete, interpolated)
+/// with a fit in the arena's [`calibration`](Arena::calibration), the profile is stretched
+/// to the predicted concrete time for a start at that heading ([`crate::calibrate`]);
+/// otherwise it is the plan itself.
 pub(crate) fn plan(
     w: &mut Arena,
     kind: NodeKind,
     level: Level,
     from: NodeId,
     goal: NodeId,
+    heading: f64,
 ) -> Result<Arc<Track>, MoveError> {
     let cal = w
         .calibration
@@ -60,10 +62,8 @@ pub(crate) fn plan(
         return plan_raw(w, kind, from, goal);
     };
     let raw = plan_raw(w, kind, from, goal)?;
-    w.tracks.get_or_plan((kind, from, goal, Some(level)), || {
-        let k = cal.stretch(kind, level, &raw).unwrap_or(1.0);
-        Ok::<_, MoveError>(crate::calibrate::stretched(&raw, k))
-    })
+    let k = cal.stretch(kind, level, &raw, heading).unwrap_or(1.0);
+    Ok(Arc::new(crate::calibrate::stretched(&raw, k)))
 }
 
 /// The planned track, uncalibrated.
@@ -97,6 +97,19 @@ pub(crate) fn start_trip(
     accepts: fn(NodeKind) -> bool,
     fx: &mut Effects<'_, Ev>,
 ) -> Result<(), MoveError> {
+    start_paced_trip(w, me, goal, accepts, None, fx)
+}
+
+/// [`start_trip`] with the profile stretched by `pace` (a squad leader's pace from the
+/// arena's calibration, [`crate::calibrate::squad`]); `None` or 1: as planned.
+pub(crate) fn start_paced_trip(
+    w: &mut Arena,
+    me: EntityId,
+    goal: NodeId,
+    accepts: fn(NodeKind) -> bool,
+    pace: Option<f64>,
+    fx: &mut Effects<'_, Ev>,
+) -> Result<(), MoveError> {
     let b = w
         .at_node
         .get(me)
@@ -109,8 +122,11 @@ pub(crate) fn start_trip(
         arrived(me, goal, fx);
         return Ok(());
     }
-    let (kind, from) = (b.kind, b.node);
-    let track = plan(w, kind, Level::Discrete, from, goal)?;
+    let (kind, from, heading) = (b.kind, b.node, b.heading);
+    let mut track = plan(w, kind, Level::Discrete, from, goal, heading)?;
+    if let Some(k) = pace.filter(|&k| k != 1.0) {
+        track = Arc::new(crate::calibrate::stretched(&track, k));
+    }
     let trip = Trip {
         goal,
         next: 1,

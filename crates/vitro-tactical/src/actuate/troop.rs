@@ -4,7 +4,7 @@
 
 /// The discrete level.
 pub mod discrete {
-    use crate::actuate::{MoveError, start_trip};
+    use crate::actuate::{MoveError, start_paced_trip, start_trip};
     use crate::arena::{Arena, Ev};
     use crate::entity::discrete::NodeKind;
     use vitro::entity::EntityId;
@@ -26,6 +26,40 @@ pub mod discrete {
             fx: &mut Effects<'_, Ev>,
         ) -> Result<(), MoveError> {
             start_trip(w, me, goal, |k| matches!(k, NodeKind::Troop(_)), fx)
+        }
+    }
+
+    /// A squad leader's hop at the discrete level at its pace: [`WalkToNode`], the hop's
+    /// profile stretched by the pace's factor where the arena has a calibration with a
+    /// squad fit ([`crate::calibrate::squad`]); as [`WalkToNode`] without one.
+    #[derive(Copy, Clone, Debug, Default)]
+    pub struct PacedWalkToNode;
+
+    /// A [`PacedWalkToNode`] command: the node, and whether the pace is slow.
+    #[derive(Copy, Clone, Debug, PartialEq, Eq)]
+    pub struct PacedHop {
+        /// The node to walk to.
+        pub node: NodeId,
+        /// True at the slow pace, false at the normal one.
+        pub slow: bool,
+    }
+
+    impl Actuator<Arena, Ev> for PacedWalkToNode {
+        type Command = PacedHop;
+        type Error = MoveError;
+        fn actuate(
+            &self,
+            w: &mut Arena,
+            me: EntityId,
+            cmd: PacedHop,
+            fx: &mut Effects<'_, Ev>,
+        ) -> Result<(), MoveError> {
+            let pace = w
+                .calibration
+                .as_ref()
+                .and_then(|c| c.pace_stretch(crate::entity::Level::Discrete, cmd.slow));
+            let troop = |k| matches!(k, NodeKind::Troop(_));
+            start_paced_trip(w, me, cmd.node, troop, pace, fx)
         }
     }
 }
@@ -90,7 +124,7 @@ pub mod directed {
                 return Ok(());
             }
             let kind = NodeKind::Troop(b.kind);
-            let track = plan(w, kind, crate::entity::Level::Directed, from, goal)?;
+            let track = plan(w, kind, crate::entity::Level::Directed, from, goal, 0.0)?;
             w.follow.insert(
                 me,
                 Follow {

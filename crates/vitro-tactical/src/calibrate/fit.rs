@@ -28,44 +28,50 @@ pub struct Stamp {
 /// Runs a calibration needs for `trips` with abstract levels `to`: each trip at its
 /// concrete level, then at each abstract level of `to` it has, uncalibrated and calibrated.
 pub fn runs_needed(trips: &[Trip], to: &[Level]) -> usize {
-    trips
-        .iter()
-        .map(|t| 1 + 2 * levels(t.kind).1.iter().filter(|l| to.contains(l)).count())
-        .sum()
+    let squads = if to.contains(&Level::Discrete) {
+        super::squad::runs_needed(trips)
+    } else {
+        0
+    };
+    squads
+        + trips
+            .iter()
+            .map(|t| 1 + 2 * levels(t.kind).1.iter().filter(|l| to.contains(l)).count())
+            .sum::<usize>()
 }
 
 /// Least squares of `y` on the rows `x` with a light pull (1e-3 of each column's scale)
 /// towards `prior`, so that a regressor that hardly varies (no climb on a flat sample)
 /// keeps its prior instead of an arbitrary value.
-pub fn least_squares(x: &[[f64; 4]], y: &[f64], prior: [f64; 4]) -> [f64; 4] {
-    let mut a = [[0.0; 4]; 4];
-    let mut b = [0.0; 4];
+pub fn least_squares<const N: usize>(x: &[[f64; N]], y: &[f64], prior: [f64; N]) -> [f64; N] {
+    let mut a = [[0.0; N]; N];
+    let mut b = [0.0; N];
     for (r, &yi) in x.iter().zip(y) {
-        for i in 0..4 {
+        for i in 0..N {
             b[i] += r[i] * yi;
-            for j in 0..4 {
+            for j in 0..N {
                 a[i][j] += r[i] * r[j];
             }
         }
     }
-    for i in 0..4 {
+    for i in 0..N {
         let w = 1e-3 * a[i][i].max(1e-6);
         a[i][i] += w;
         b[i] += w * prior[i];
     }
-    solve4(a, b).unwrap_or(prior)
+    solve(a, b).unwrap_or(prior)
 }
 
 /// Gaussian elimination with partial pivoting.
-fn solve4(mut a: [[f64; 4]; 4], mut b: [f64; 4]) -> Option<[f64; 4]> {
-    for c in 0..4 {
-        let p = (c..4).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+fn solve<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
+    for c in 0..N {
+        let p = (c..N).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
         if a[p][c].abs() < 1e-12 {
             return None;
         }
         a.swap(c, p);
         b.swap(c, p);
-        for r in c + 1..4 {
+        for r in c + 1..N {
             let f = a[r][c] / a[c][c];
             let pivot = a[c];
             for (x, p) in a[r].iter_mut().zip(pivot).skip(c) {
@@ -74,9 +80,9 @@ fn solve4(mut a: [[f64; 4]; 4], mut b: [f64; 4]) -> Option<[f64; 4]> {
             b[r] -= f * b[c];
         }
     }
-    let mut x = [0.0; 4];
-    for c in (0..4).rev() {
-        let s: f64 = (c + 1..4).map(|k| a[c][k] * x[k]).sum();
+    let mut x = [0.0; N];
+    for c in (0..N).rev() {
+        let s: f64 = (c + 1..N).map(|k| a[c][k] * x[k]).sum();
         x[c] = (b[c] - s) / a[c][c];
     }
     x.iter().all(|v| v.is_finite()).then_some(x)
@@ -152,7 +158,7 @@ pub fn calibrate(
             x.push(f.row());
             y.push(target);
         }
-        let p = least_squares(&x, &y, [1.0, 0.0, 0.0, 0.0]);
+        let p = least_squares(&x, &y, [1.0, 0.0, 0.0, 0.0, 0.0]);
         fits.push(Fit {
             entity: entity.clone(),
             level: level.name().to_owned(),
@@ -161,6 +167,7 @@ pub fn calibrate(
             beta: p[1],
             kappa: p[2],
             gamma: p[3],
+            delta: p[4],
             trips: x.len(),
             fit_residuals: Residuals::default(),
             held_out: Residuals::default(),
@@ -168,8 +175,8 @@ pub fn calibrate(
     }
     let mut cal = Calibration {
         format: FORMAT,
-        model: "T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m; the abstract \
-                level's profile is stretched by T / T_profile"
+        model: "T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m + delta * \
+                start_turn_rad; the abstract level's profile is stretched by T / T_profile"
             .into(),
         scenario: stamp.scenario.clone(),
         map: stamp.map.clone(),
@@ -180,6 +187,7 @@ pub fn calibrate(
         wall_s: 0.0,
         unfinished,
         fits,
+        squads: Vec::new(),
         trips: Vec::new(),
     };
     // Stage 3: every trip again at the calibrated abstract levels.
@@ -216,6 +224,12 @@ pub fn calibrate(
             }
             *slot = Residuals::of(&c, &b, &a);
         }
+    }
+    // Stage 4: the squads' pace at the discrete level, over the trip fits.
+    if to.contains(&Level::Discrete) {
+        cal.squads = super::squad::fit_squad(setup, trips, &cal, threads, tick)?
+            .into_iter()
+            .collect();
     }
     for (i, t) in trips.iter().enumerate() {
         let Some(c) = concrete[i] else { continue };

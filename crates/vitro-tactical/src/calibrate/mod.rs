@@ -29,6 +29,7 @@
 
 pub mod evaluate;
 pub mod fit;
+pub mod squad;
 pub mod trips;
 
 use crate::entity::Level;
@@ -105,6 +106,10 @@ pub struct Features {
     pub turn_rad: f64,
     /// Metres climbed.
     pub climb_m: f64,
+    /// The turn from the body's heading at the start onto the path's first piece, radians
+    /// (0 in a file made before it).
+    #[serde(default)]
+    pub start_turn_rad: f64,
 }
 
 impl Features {
@@ -131,12 +136,27 @@ impl Features {
             length_m: track.length(),
             turn_rad: turn,
             climb_m: climb,
+            start_turn_rad: 0.0,
         }
     }
 
-    /// The regressors of the model: profile time, 1, turn, climb.
-    pub fn row(&self) -> [f64; 4] {
-        [self.profile_s, 1.0, self.turn_rad, self.climb_m]
+    /// The features of a planned track that a body heading `heading` (radians) starts on.
+    pub fn starting(track: &Track, heading: f64) -> Self {
+        Features {
+            start_turn_rad: wrap_angle(track.heading_at(0.0) - heading).abs(),
+            ..Self::of(track)
+        }
+    }
+
+    /// The regressors of the model: profile time, 1, turn, climb, start turn.
+    pub fn row(&self) -> [f64; 5] {
+        [
+            self.profile_s,
+            1.0,
+            self.turn_rad,
+            self.climb_m,
+            self.start_turn_rad,
+        ]
     }
 }
 
@@ -158,6 +178,10 @@ pub struct Fit {
     pub kappa: f64,
     /// Seconds per metre climbed.
     pub gamma: f64,
+    /// Seconds per radian of turn from the start heading onto the path (0 in a file made
+    /// before it).
+    #[serde(default)]
+    pub delta: f64,
     /// Trips fitted.
     pub trips: usize,
     /// Residuals on the fitted trips (abstract level without / with calibration against the
@@ -165,6 +189,25 @@ pub struct Fit {
     pub fit_residuals: Residuals,
     /// Residuals on held-out trips, measured by running the calibrated abstract level.
     pub held_out: Residuals,
+}
+
+/// The fitted pace of squad walks at an abstract level ([`squad`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SquadFit {
+    /// The abstract level (`discrete`).
+    pub level: String,
+    /// The concrete level it predicts (`directed`).
+    pub concrete: String,
+    /// Stretch of the leader's hops at normal pace.
+    pub normal: f64,
+    /// Stretch of the leader's hops at slow pace.
+    pub slow: f64,
+    /// Walks fitted (calm and in contact).
+    pub walks: usize,
+    /// Walk times without / with the stretches against the concrete level's, calm walks.
+    pub calm: Residuals,
+    /// The same, walks in contact.
+    pub contact: Residuals,
 }
 
 /// How far an abstract level's trip times are from the concrete level's.
@@ -274,6 +317,9 @@ pub struct Calibration {
     /// The fits, one per (entity type, abstract level).
     #[serde(rename = "fit")]
     pub fits: Vec<Fit>,
+    /// The squads' pace at the abstract levels ([`squad`]); none in a file made before it.
+    #[serde(rename = "squad", default)]
+    pub squads: Vec<SquadFit>,
     /// The sample trips.
     #[serde(rename = "trip", default)]
     pub trips: Vec<TripRecord>,
@@ -306,8 +352,13 @@ impl Calibration {
         if c.format != FORMAT {
             return Err(CalibrationError::Format { found: c.format }.to_string());
         }
+        for f in &c.squads {
+            if !(f.normal.is_finite() && f.slow.is_finite()) {
+                return Err(format!("squad fit at {}: a stretch is not finite", f.level));
+            }
+        }
         for f in &c.fits {
-            let ok = [f.alpha, f.beta, f.kappa, f.gamma]
+            let ok = [f.alpha, f.beta, f.kappa, f.gamma, f.delta]
                 .iter()
                 .all(|x| x.is_finite());
             if !ok {
@@ -327,6 +378,9 @@ impl Calibration {
             "# Vitro calibration: the abstract levels' trip times fitted to the {} level.\n\
              # Model, per entity type and abstract level:\n\
              #   T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m\n\
+             #       + delta * start_turn_rad\n\
+             # [[squad]]: the stretch of a squad leader's discrete hops at its normal and\n\
+             # slow pace, fitted on squad walks at the directed level.\n\
              # A scenario uses it with `[fidelity] calibration = \"FILE\"` (same map, terrain\n\
              # and type set only). Residuals: % of the concrete time (bias signed, negative =\n\
              # the abstract level is optimistic); held_out: trips not used by the fit.\n\n{body}",
@@ -359,11 +413,25 @@ impl Calibration {
             .find(|f| f.entity == entity && f.level == level.name())
     }
 
-    /// The stretch of a track of `kind` at `level` ([`Fit::predict`] over the profile time),
-    /// or `None` where there is no fit.
-    pub fn stretch(&self, kind: NodeKind, level: Level, track: &Track) -> Option<f64> {
+    /// The stretch of a squad leader's hop at `level` at its slow or normal pace, if the
+    /// calibration has a squad fit there ([`squad`]).
+    pub fn pace_stretch(&self, level: Level, slow: bool) -> Option<f64> {
+        let f = self.squads.iter().find(|f| f.level == level.name())?;
+        let k = if slow { f.slow } else { f.normal };
+        (k.is_finite() && k > 0.0).then(|| k.clamp(STRETCH_MIN, STRETCH_MAX))
+    }
+
+    /// The stretch of a track of `kind` at `level` for a body heading `heading` at its
+    /// start ([`Fit::predict`] over the profile time), or `None` where there is no fit.
+    pub fn stretch(
+        &self,
+        kind: NodeKind,
+        level: Level,
+        track: &Track,
+        heading: f64,
+    ) -> Option<f64> {
         let fit = self.fit(&entity_key(kind), level)?;
-        let f = Features::of(track);
+        let f = Features::starting(track, heading);
         if f.profile_s <= 0.0 {
             return None;
         }
@@ -375,7 +443,11 @@ impl Fit {
     /// The predicted concrete time of a trip with features `f`, seconds.
     pub fn predict(&self, f: &Features) -> f64 {
         let r = f.row();
-        self.alpha * r[0] + self.beta * r[1] + self.kappa * r[2] + self.gamma * r[3]
+        self.alpha * r[0]
+            + self.beta * r[1]
+            + self.kappa * r[2]
+            + self.gamma * r[3]
+            + self.delta * r[4]
     }
 }
 

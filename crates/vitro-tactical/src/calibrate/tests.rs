@@ -21,9 +21,19 @@ fn sample() -> Calibration {
             beta: 4.0,
             kappa: 0.5,
             gamma: 0.01,
+            delta: 0.7,
             trips: 3,
             fit_residuals: Residuals::of(&[10.0, 20.0], &[9.0, 18.0], &[10.5, 19.0]),
             held_out: Residuals::default(),
+        }],
+        squads: vec![SquadFit {
+            level: "discrete".into(),
+            concrete: "directed".into(),
+            normal: 1.1,
+            slow: 1.9,
+            walks: 4,
+            calm: Residuals::default(),
+            contact: Residuals::default(),
         }],
         trips: vec![],
     }
@@ -62,6 +72,7 @@ fn least_squares_recovers_a_linear_model() {
         .map(|r| (0..4).map(|j| r[j] * truth[j]).sum())
         .collect();
     let p = least_squares(&x, &y, [1.0, 0.0, 0.0, 0.0]);
+    // Five regressors as the model has them (the start turn), the same solver.
     for j in 0..4 {
         assert!(
             (p[j] - truth[j]).abs() < 0.05 * truth[j].abs() + 0.05,
@@ -76,4 +87,23 @@ fn residuals_are_signed_relative_errors() {
     assert!((r.bias_pct_before + 20.0).abs() < 1e-9);
     assert!((r.mape_pct_after - 2.5).abs() < 1e-9);
     assert!((r.max_pct_after - 5.0).abs() < 1e-9);
+}
+
+#[test]
+fn the_pace_stretch_is_the_squad_fit_of_the_level() {
+    let mut c = sample();
+    assert_eq!(c.pace_stretch(Level::Discrete, true), Some(1.9));
+    assert_eq!(c.pace_stretch(Level::Discrete, false), Some(1.1));
+    assert_eq!(c.pace_stretch(Level::Interpolated, true), None);
+    c.squads.clear();
+    assert_eq!(c.pace_stretch(Level::Discrete, true), None);
+}
+
+#[test]
+fn a_file_without_squad_fits_still_reads() {
+    let mut c = sample();
+    c.squads.clear();
+    let text = c.to_toml().unwrap();
+    assert!(!text.lines().any(|l| l == "[[squad]]"));
+    assert_eq!(Calibration::parse(&text).unwrap(), c);
 }

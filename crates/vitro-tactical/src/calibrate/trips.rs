@@ -17,8 +17,13 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use vitro::env::NodeId;
 
+/// Largest start heading off the way a sample trip is given, radians: a right angle, the
+/// turn onto the next street at a junction where a leg ended (a U-turn is another
+/// manoeuvre, which a turn rate does not describe).
+pub const MAX_START_OFF: f64 = std::f64::consts::FRAC_PI_2;
+
 /// One sample trip.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq)]
 pub struct Trip {
     /// What drives or walks it.
     pub kind: NodeKind,
@@ -28,6 +33,10 @@ pub struct Trip {
     pub to: NodeId,
     /// True if the fit may use it (else it is held out for evaluation).
     pub fit: bool,
+    /// The body's start heading off the path's first piece, radians (every other trip
+    /// starts turned by an angle drawn up to [`MAX_START_OFF`]: a start off the way, as at
+    /// a leg's end).
+    pub start_off: f64,
 }
 
 /// How many trips to draw, and how long.
@@ -159,11 +168,17 @@ pub fn sample(setup: &Setup, s: &Sampling) -> Vec<Trip> {
             if len < lo || len > hi {
                 continue;
             }
+            let start_off = if made % 2 == 1 {
+                rng.random_range(-MAX_START_OFF..MAX_START_OFF)
+            } else {
+                0.0
+            };
             out.push(Trip {
                 kind,
                 from,
                 to,
                 fit: made < s.fit_per_type,
+                start_off,
             });
             made += 1;
         }
@@ -220,9 +235,14 @@ pub fn coverage(setup: &Setup, t: &Trip) -> (String, bool) {
     (classes.into_iter().collect::<Vec<_>>().join("+"), bridge)
 }
 
-/// The features of a trip's uncalibrated track.
+/// The body's heading at a trip's start.
+fn start_heading(tr: &Track, t: &Trip) -> f64 {
+    crate::entity::route::wrap_angle(tr.heading_at(0.0) + t.start_off)
+}
+
+/// The features of a trip's uncalibrated track, started at the trip's heading.
 pub fn features(setup: &Setup, t: &Trip) -> Result<Features, CheckError> {
-    track(setup, t).map(|tr| Features::of(&tr))
+    track(setup, t).map(|tr| Features::starting(&tr, start_heading(&tr, t)))
 }
 
 /// Runs `t` at `level` (with `calibration` on the arena if given) and returns its arrival
@@ -234,7 +254,7 @@ pub fn run(
     calibration: Option<Arc<Calibration>>,
 ) -> Result<Option<f64>, CheckError> {
     let tr = track(setup, t)?;
-    let heading = tr.heading_at(0.0);
+    let heading = start_heading(&tr, t);
     let limit = 3.0 * tr.duration() + 300.0;
     let name = entity_key(t.kind);
     let setup = Setup {

@@ -59,8 +59,15 @@ impl Actuator<Arena, Ev> for GoToNode {
             arrived(me, goal, fx);
             return Ok(());
         }
-        let (kind, from) = (NodeKind::Ground(b.kind), b.node);
-        let track = plan(w, kind, crate::entity::Level::Interpolated, from, goal)?;
+        let (kind, from, heading) = (NodeKind::Ground(b.kind), b.node, b.heading);
+        let track = plan(
+            w,
+            kind,
+            crate::entity::Level::Interpolated,
+            from,
+            goal,
+            heading,
+        )?;
         w.follow.insert(
             me,
             Follow {

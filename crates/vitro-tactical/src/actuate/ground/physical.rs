@@ -141,7 +141,7 @@ impl Actuator<Arena, Ev> for GoToNode {
             return Ok(());
         }
         let (kind, from) = (NodeKind::Ground(b.kind), b.node);
-        let track = plan(w, kind, crate::entity::Level::Physical, from, goal)?;
+        let track = plan(w, kind, crate::entity::Level::Physical, from, goal, 0.0)?;
         if let Some(p) = w.physics.as_mut() {
             p.park(me, false);
         }

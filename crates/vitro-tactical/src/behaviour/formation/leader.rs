@@ -467,7 +467,7 @@ impl State {
         let result = match &mut self.route {
             Some(r) if pace != Pace::Halt && !r.follow.done(pose.level) => match pose.level {
                 Level::Discrete => match r.follow.next_hop() {
-                    Some(n) => self.mover.hop(cx, n),
+                    Some(n) => self.mover.paced_hop(cx, n, pace == Pace::Slow),
                     None => Ok(()),
                 },
                 _ => {

@@ -3,7 +3,8 @@
 
 use super::sense::{ClearWay, Leg, NearestNode};
 use crate::actuate::MoveError;
-use crate::actuate::troop::{directed::MoveAndTurn, discrete::WalkToNode};
+use crate::actuate::troop::directed::MoveAndTurn;
+use crate::actuate::troop::discrete::{PacedHop, PacedWalkToNode, WalkToNode};
 use crate::entity::troop::StepCmd;
 use crate::entity::{Level, Pose};
 use crate::model::Tactical;
@@ -71,6 +72,26 @@ impl Mover {
             return Ok(());
         }
         match cx.act(&WalkToNode, node) {
+            Ok(()) | Err(MoveError::UnderWay(_)) => {
+                self.hopping = true;
+                Ok(())
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// A squad leader's hop to `node` at its pace (discrete level; the pace counts where
+    /// the arena is calibrated, [`PacedWalkToNode`]) unless a hop is under way.
+    pub fn paced_hop(
+        &mut self,
+        cx: &mut Context<'_, Tactical>,
+        node: NodeId,
+        slow: bool,
+    ) -> Result<(), MoveError> {
+        if self.hopping {
+            return Ok(());
+        }
+        match cx.act(&PacedWalkToNode, PacedHop { node, slow }) {
             Ok(()) | Err(MoveError::UnderWay(_)) => {
                 self.hopping = true;
                 Ok(())

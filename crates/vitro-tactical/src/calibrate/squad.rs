@@ -1,0 +1,267 @@
+//! The squad's pace: a squad walking in formation ([`Leader`], [`Member`]) is slower at the
+//! directed level than its leader's hops make it at the discrete level. At the directed level
+//! the leader walks at half its speed when it is in contact or a member lags
+//! ([`FormationParams::slow_factor`]) and steers round corners with its members in slots; a
+//! discrete hop cannot slow down. The calibration measures it: sample squad walks (a leader
+//! and two members) at the directed and the discrete level, calm and in contact (a red
+//! contact reported to the leader every [`CONTACT_EVERY_S`]), and fits the stretch of the
+//! leader's discrete hops at the slow pace from the walks in contact: the ratio of the
+//! directed to the discrete walking times, corrected once by a second round of walks at that
+//! stretch (the leader's waits at the nodes do not stretch with its hops). The normal pace
+//! keeps its plan (`normal = 1`): calm discrete squads are not faster than directed ones
+//! (their leader waits at every node), which the calm walks' residuals record. A calibrated
+//! discrete leader hops at its pace's stretch
+//! ([`crate::actuate::troop::discrete::PacedWalkToNode`]).
+
+use super::trips::{Trip, par_map};
+use super::{Calibration, Residuals, SquadFit};
+use crate::arena::Ev;
+use crate::behaviour::formation::{FormationParams, LEADER_PROGRAM, Leader, Member, Script};
+use crate::check::{CheckError, Setup};
+use crate::entity::Level;
+use crate::entity::discrete::NodeKind;
+use crate::model::Tactical;
+use crate::radio::{Order, Radio};
+use crate::types::TroopKind;
+use crate::world::Side;
+use std::sync::Arc;
+use vitro::entity::EntityId;
+use vitro::event::Target;
+use vitro::sim::Simulation;
+use vitro::time::SimTime;
+
+/// Members of a sample squad (besides its leader).
+pub const MEMBERS: usize = 2;
+/// A contact is reported to the leader this often in a walk in contact, seconds.
+pub const CONTACT_EVERY_S: f64 = 10.0;
+/// Distance of the reported contact from the walk's start, across its first piece, metres.
+pub const CONTACT_M: f64 = 80.0;
+/// When the walk is ordered, seconds after the start.
+const ORDER_S: f64 = 1.0;
+
+/// A sample squad walk: a trooper trip's ends, calm or in contact.
+#[derive(Copy, Clone, Debug)]
+struct Walk {
+    trip: Trip,
+    contact: bool,
+}
+
+/// Walks `w` with a squad at `level`; the time from the order to the leader's `arrived`,
+/// seconds (`None`: not within the limit).
+fn walk(setup: &Setup, w: &Walk, level: Level) -> Result<Option<f64>, CheckError> {
+    let err = |e: String| CheckError::Scenario {
+        scenario: "squad walk".into(),
+        message: e,
+    };
+    let arena = setup.arena();
+    let g = arena.roads.of(vitro_site::map::Mode::Walk);
+    let node = |n: vitro::env::NodeId| g.graph.node(n).map(|s| s.pos);
+    let (Some(a), Some(b)) = (node(w.trip.from), node(w.trip.to)) else {
+        return Ok(None);
+    };
+    let goal = arena.site.to_world(b);
+    let heading = libm::atan2(b[1] - a[1], b[0] - a[0]);
+    let mut sim: Simulation<Tactical> = Simulation::new(arena, setup.seed);
+    let params = FormationParams::default();
+    // Ids in creation order: the members first, then the leader, then the script.
+    let leader_id = EntityId(MEMBERS as u32);
+    let mut ids = Vec::new();
+    for k in 0..MEMBERS {
+        let m = Member::new(leader_id, params.clone());
+        ids.push(
+            sim.add_agent(format!("member-{k}"), Box::new(m))
+                .map_err(|e| err(e.to_string()))?,
+        );
+    }
+    let leader =
+        Leader::new(LEADER_PROGRAM, ids.clone(), params).map_err(|e| err(e.to_string()))?;
+    let lid = sim
+        .add_agent("leader", Box::new(leader))
+        .map_err(|e| err(e.to_string()))?;
+    if lid != leader_id {
+        return Err(err("the leader's id is not the expected one".into()));
+    }
+    let mut plan = vec![(
+        SimTime::from_secs_f64(ORDER_S),
+        lid,
+        Radio::Order(Order::GoTo(goal)),
+    )];
+    let limit = 1200.0;
+    if w.contact {
+        // A red body off to the left of the way out, reported again and again.
+        let side = [
+            a[0] - CONTACT_M * libm::sin(heading),
+            a[1] + CONTACT_M * libm::cos(heading),
+        ];
+        let pos = sim.env().site.on_ground(side);
+        let mut t = ORDER_S;
+        while t < limit {
+            plan.push((
+                SimTime::from_secs_f64(t),
+                lid,
+                Radio::Contact {
+                    target: EntityId(u32::MAX),
+                    pos,
+                    seen_as: Side::Red,
+                },
+            ));
+            t += CONTACT_EVERY_S;
+        }
+    }
+    let hq = sim
+        .add_agent("hq", Box::new(Script::new(plan)))
+        .map_err(|e| err(e.to_string()))?;
+    for &id in ids.iter().chain([&lid]) {
+        sim.env_mut()
+            .add_trooper(id, TroopKind::Blue, level, w.trip.from, heading)
+            .map_err(|e| err(e.to_string()))?;
+    }
+    for &id in ids.iter().chain([&lid, &hq]) {
+        sim.schedule(SimTime::ZERO, Target::Entity(id), Ev::Start)
+            .map_err(|e| err(e.to_string()))?;
+    }
+    let arrived = |s: &Simulation<Tactical>| {
+        s.agent(hq)
+            .and_then(|a| a.as_any().downcast_ref::<Script>())
+            .and_then(|sc| {
+                sc.heard
+                    .iter()
+                    .find(|(_, _, m)| matches!(m, Radio::Signal(s, _) if s == "arrived"))
+                    .map(|(t, _, _)| t.as_secs_f64() - ORDER_S)
+            })
+    };
+    let mut t = 0.0;
+    while t < limit {
+        t += 5.0;
+        sim.run_until(SimTime::from_secs_f64(t));
+        if let Some(a) = arrived(&sim) {
+            return Ok(Some(a));
+        }
+    }
+    Ok(None)
+}
+
+/// The blue trooper trips of `trips` that the fit uses, each walked calm and in contact.
+fn walks(trips: &[Trip]) -> Vec<Walk> {
+    let blue = trips
+        .iter()
+        .filter(|t| t.fit && t.kind == NodeKind::Troop(TroopKind::Blue));
+    blue.flat_map(|&trip| [false, true].map(|contact| Walk { trip, contact }))
+        .collect()
+}
+
+/// Runs needed by [`fit_squad`] for `trips`: each walk at both levels, the walks in
+/// contact at the first stretch, then every walk at the calibrated discrete level.
+pub fn runs_needed(trips: &[Trip]) -> usize {
+    let w = walks(trips);
+    3 * w.len() + w.iter().filter(|w| w.contact).count()
+}
+
+/// Sums of paired times over the walks that arrived at every level.
+fn ratio(conc: &[Option<f64>], abs: &[Option<f64>]) -> f64 {
+    let (mut c, mut a) = (0.0, 0.0);
+    for (x, y) in conc.iter().zip(abs) {
+        if let (Some(x), Some(y)) = (x, y) {
+            c += x;
+            a += y;
+        }
+    }
+    if a > 0.0 { c / a } else { 1.0 }
+}
+
+/// Fits the discrete leader's pace stretches from squad walks over `trips`' blue trooper
+/// trips (see the module doc); `cal` is the calibration made so far (its trip fits apply
+/// to the discrete walks). `tick` is called after each run.
+pub fn fit_squad(
+    setup: &Setup,
+    trips: &[Trip],
+    cal: &Calibration,
+    threads: usize,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Option<SquadFit>, CheckError> {
+    let ws = walks(trips);
+    if ws.is_empty() {
+        return Ok(None);
+    }
+    // The discrete walks before the squad fit follow the trip fits made so far.
+    let mut plain = cal.clone();
+    plain.squads.clear();
+    let before = Setup {
+        calibration: Some(Arc::new(plain)),
+        ..setup.clone()
+    };
+    let jobs: Vec<(usize, Level)> = (0..ws.len())
+        .flat_map(|i| [(i, Level::Directed), (i, Level::Discrete)])
+        .collect();
+    let out = par_map(&jobs, threads, |&(i, l)| walk(&before, &ws[i], l), tick);
+    let times: Vec<Option<f64>> = out.into_iter().map(|r| r.ok().flatten()).collect();
+    let (mut conc, mut disc) = ([Vec::new(), Vec::new()], [Vec::new(), Vec::new()]);
+    for (k, w) in ws.iter().enumerate() {
+        let c = usize::from(w.contact);
+        conc[c].push(times.get(2 * k).copied().flatten());
+        disc[c].push(times.get(2 * k + 1).copied().flatten());
+    }
+    // The slow pace: the ratio of the directed to the discrete times of the walks in
+    // contact, then once more over the walks at that stretch (the leader's waits at the
+    // nodes do not stretch with its hops). The normal pace keeps the plan: calm discrete
+    // squads are not faster than directed ones (they wait at every node; the residuals
+    // say by how much), and shrinking hops would not remove waits.
+    let slow0 = ratio(&conc[1], &disc[1]);
+    let mut fit = SquadFit {
+        level: Level::Discrete.name().into(),
+        concrete: Level::Directed.name().into(),
+        normal: 1.0,
+        slow: slow0,
+        walks: ws.len(),
+        calm: Residuals::default(),
+        contact: Residuals::default(),
+    };
+    let with_fit = |fit: &SquadFit| {
+        let mut with = cal.clone();
+        with.squads = vec![fit.clone()];
+        Setup {
+            calibration: Some(Arc::new(with)),
+            ..setup.clone()
+        }
+    };
+    let contact: Vec<Walk> = ws.iter().copied().filter(|w| w.contact).collect();
+    let first = with_fit(&fit);
+    let again: Vec<Option<f64>> = par_map(
+        &contact,
+        threads,
+        |w| walk(&first, w, Level::Discrete),
+        tick,
+    )
+    .into_iter()
+    .map(|r| r.ok().flatten())
+    .collect();
+    fit.slow = (slow0 * ratio(&conc[1], &again)).clamp(super::STRETCH_MIN, super::STRETCH_MAX);
+    // Every walk again at the calibrated discrete level.
+    let checked = with_fit(&fit);
+    let after: Vec<Option<f64>> =
+        par_map(&ws, threads, |w| walk(&checked, w, Level::Discrete), tick)
+            .into_iter()
+            .map(|r| r.ok().flatten())
+            .collect();
+    let mut after_by = [Vec::new(), Vec::new()];
+    for (w, a) in ws.iter().zip(after) {
+        after_by[usize::from(w.contact)].push(a);
+    }
+    for c in 0..2 {
+        let (mut x, mut b, mut a) = (Vec::new(), Vec::new(), Vec::new());
+        for k in 0..conc[c].len() {
+            if let (Some(xc), Some(bd), Some(ad)) = (conc[c][k], disc[c][k], after_by[c][k]) {
+                x.push(xc);
+                b.push(bd);
+                a.push(ad);
+            }
+        }
+        let r = Residuals::of(&x, &b, &a);
+        if c == 0 {
+            fit.calm = r;
+        } else {
+            fit.contact = r;
+        }
+    }
+    Ok(Some(fit))
+}
