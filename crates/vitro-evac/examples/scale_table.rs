@@ -118,6 +118,13 @@ fn row(blocks: u32, level: &str, until_s: f64) -> Result<(), Box<dyn std::error:
         peak_rss_mib(),
         mission.sim.trace_hash(),
     );
+    let arena = mission.sim.env();
+    eprintln!(
+        "{:>12} looks {:?}, line of sight (memo, cast) {:?}",
+        "",
+        arena.look_counts(),
+        arena.sight_counts()
+    );
     Ok(())
 }
 
