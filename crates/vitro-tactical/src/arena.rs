@@ -14,6 +14,7 @@
 
 mod grid;
 mod look;
+mod looks;
 mod seen;
 mod sight;
 
@@ -41,7 +42,7 @@ use vitro_site::map::Mode;
 use vitro_site::site::Site;
 
 mod snapshot;
-pub use seen::LookCounts;
+pub use looks::LookCounts;
 pub use snapshot::{ArenaState, ArenaStateRef, RestoreError, site_digest};
 
 /// A fixed-step clock of the arena.
@@ -177,7 +178,7 @@ pub struct Arena {
     next_tick: [Option<EventId>; 3],
     /// The active bodies on a grid, for vision ([`bodies_near`](Self::bodies_near)), and
     /// what each looker's last look could see ([`in_sight`](Self::in_sight)).
-    vision: Mutex<seen::Looks>,
+    vision: Mutex<looks::Looks>,
     /// Line-of-sight answers so far ([`visible`](Self::visible)).
     sight: Mutex<sight::SightMemo>,
 }
