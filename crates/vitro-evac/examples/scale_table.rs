@@ -14,7 +14,8 @@
 //! event, simulated seconds per wall second, the run's CPU seconds and µs of CPU per event
 //! (the thread's own time: steadier than wall time on a loaded machine), the setup's wall
 //! seconds, peak RSS in MiB, the simulated seconds run and the run's trace hash (equal
-//! before and after a change that must not alter the model).
+//! before and after a change that must not alter the model). On stderr, each row adds how
+//! vision's looks were answered (`Arena::look_counts`) and the line-of-sight memo's counts.
 
 use std::path::Path;
 use std::process::Command;
