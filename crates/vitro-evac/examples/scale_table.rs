@@ -14,7 +14,8 @@
 //! event, simulated seconds per wall second, the run's CPU seconds and µs of CPU per event
 //! (the thread's own time: steadier than wall time on a loaded machine), the setup's wall
 //! seconds, peak RSS in MiB, the simulated seconds run and the run's trace hash (equal
-//! before and after a change that must not alter the model).
+//! before and after a change that must not alter the model). On stderr, each row adds how
+//! vision's looks were answered (`Arena::look_counts`) and the line-of-sight memo's counts.
 
 use std::path::Path;
 use std::process::Command;
@@ -117,6 +118,13 @@ fn row(blocks: u32, level: &str, until_s: f64) -> Result<(), Box<dyn std::error:
         cpu * 1e6 / events.max(1) as f64,
         peak_rss_mib(),
         mission.sim.trace_hash(),
+    );
+    let arena = mission.sim.env();
+    eprintln!(
+        "{:>12} looks {:?}, line of sight (memo, cast) {:?}",
+        "",
+        arena.look_counts(),
+        arena.sight_counts()
     );
     Ok(())
 }

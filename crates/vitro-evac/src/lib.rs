@@ -228,10 +228,12 @@ impl Mission {
             Err(_) => Vec::new(),
         };
         for (t, target) in contacts {
-            let red = self
-                .members
-                .iter()
-                .any(|m| m.id == target && m.side == Side::Red && m.role == Role::Trooper);
+            // Members are listed in id order (a look-up, not a scan per contact).
+            let member = match self.members.get(target.index()) {
+                Some(m) if m.id == target => Some(m),
+                _ => self.members.iter().find(|m| m.id == target),
+            };
+            let red = member.is_some_and(|m| m.side == Side::Red && m.role == Role::Trooper);
             if red && let Some(name) = self.names.get(&target) {
                 self.referee.contact(name, t);
             }

@@ -20,15 +20,12 @@ impl Sensor<Arena> for Vision {
         let Some(mine) = w.body(me) else {
             return Vec::new();
         };
-        // Only bodies within the range can be seen: the arena's grid gives them. Which ones
-        // can be seen does not depend on the order; the draws then go in id order, as in a
-        // look at every entity in id order.
-        let mut seen = w.bodies_within(mine.pos[0], mine.pos[1], self.0.range);
-        seen.retain(|(id, b)| *id != me && self.0.can_see_by(&mine, b, |p, q| w.visible(p, q)));
-        seen.sort_unstable_by_key(|(id, _)| *id);
+        // The bodies it can see, in id order (from the arena's grid and its memo of looks);
+        // the draws then go in id order, as in a look at every entity in id order.
+        let seen = w.in_sight(me, &mine, &self.0);
         let rng = probe.rng("fof");
-        seen.into_iter()
-            .filter_map(|(id, b)| self.0.sighting(&mine, id, &b, &mut *rng))
+        seen.iter()
+            .filter_map(|s| self.0.draw(s, &mut *rng))
             .collect()
     }
 }
@@ -83,13 +80,14 @@ pub fn covered(w: &Arena, target: EntityId, radius: f64) -> bool {
     let (Some(c), Some(p)) = (w.conditions.get(target), w.pose(target)) else {
         return false;
     };
-    w.conditions.iter().any(|(id, a)| {
-        a.role.is_aircraft()
-            && a.side == c.side
-            && a.status == Status::Active
-            && w.pose(id)
-                .is_some_and(|q| libm::hypot(q.pos[0] - p.pos[0], q.pos[1] - p.pos[1]) <= radius)
-    })
+    // Only an active aircraft near the target can cover it: the arena's grid of aircraft
+    // gives them (and a few more: a metre of slack, the test below decides).
+    w.aircraft_within(p.pos[0], p.pos[1], radius + 1.0)
+        .iter()
+        .any(|(id, q)| {
+            w.conditions.get(*id).is_some_and(|a| a.side == c.side)
+                && libm::hypot(q.pos[0] - p.pos[0], q.pos[1] - p.pos[1]) <= radius
+        })
 }
 
 /// Whether the person `who` lies down (hit) within `range` metres of the observer and in
@@ -149,5 +147,92 @@ impl Sensor<Arena> for GroundView {
                 + (d[2] - target[2]) * (d[2] - target[2]),
         );
         dist <= self.range && w.visible(mine.pos, target)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+    use std::sync::Arc;
+    use vitro_site::map::TownMap;
+    use vitro_site::site::{Site, SiteConfig};
+    use vitro_site::terrain::Terrain;
+    use vitro_tactical::condition::Role;
+    use vitro_tactical::entity::Level;
+    use vitro_tactical::types::VtolKind;
+    use vitro_tactical::world::Side;
+
+    /// The cover test as a scan of every entity (the reference).
+    fn covered_by_scan(w: &Arena, target: EntityId, radius: f64) -> bool {
+        let (Some(c), Some(p)) = (w.conditions.get(target), w.pose(target)) else {
+            return false;
+        };
+        w.conditions.iter().any(|(id, a)| {
+            a.role.is_aircraft()
+                && a.side == c.side
+                && a.status == Status::Active
+                && w.pose(id).is_some_and(|q| {
+                    libm::hypot(q.pos[0] - p.pos[0], q.pos[1] - p.pos[1]) <= radius
+                })
+        })
+    }
+
+    #[test]
+    fn cover_from_the_grid_is_cover_from_a_scan() {
+        let site = Site::new(
+            TownMap::from_buildings(Vec::new()),
+            Terrain::flat(51, 51, 20.0, 0.0).unwrap(),
+            &SiteConfig {
+                offset: Some([500.0, 500.0]),
+                ..SiteConfig::default()
+            },
+        )
+        .unwrap();
+        let mut w = Arena::new(Arc::new(site));
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        for i in 0..300u32 {
+            let pos = [
+                rng.random_range(0.0..1000.0),
+                rng.random_range(0.0..1000.0),
+                20.0,
+            ];
+            w.add_vtol(EntityId(i), VtolKind::Vidar, Level::Dynamic, pos, 0.0)
+                .unwrap();
+            // A few aircraft, the others bodies of other roles; some down.
+            let role = if i % 10 == 0 {
+                Role::Vidar
+            } else {
+                Role::Trooper
+            };
+            let mut c = Condition::new(role, Side::ALL[rng.random_range(0..3)], 1.0);
+            if rng.random_bool(0.2) {
+                c.status = Status::Down;
+            }
+            w.conditions.insert(EntityId(i), c);
+        }
+        let mut agree = [0; 2];
+        for round in 0..20 {
+            for _ in 0..10 {
+                let id = EntityId(rng.random_range(0..300));
+                let d = rng.random_range(-80.0..80.0);
+                w.vtol.update(id, |b| b.pos[0] += d);
+            }
+            for t in (0..300).step_by(7) {
+                let r = rng.random_range(0.0..250.0);
+                let want = covered_by_scan(&w, EntityId(t), r);
+                assert_eq!(
+                    covered(&w, EntityId(t), r),
+                    want,
+                    "round {round}, target {t}"
+                );
+                agree[usize::from(want)] += 1;
+            }
+        }
+        assert!(
+            agree[0] > 50 && agree[1] > 50,
+            "both answers tested: {agree:?}"
+        );
     }
 }

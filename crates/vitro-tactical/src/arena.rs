@@ -14,6 +14,8 @@
 
 mod grid;
 mod look;
+mod looks;
+mod seen;
 mod sight;
 
 use crate::condition::Condition;
@@ -40,6 +42,7 @@ use vitro_site::map::Mode;
 use vitro_site::site::Site;
 
 mod snapshot;
+pub use looks::LookCounts;
 pub use snapshot::{ArenaState, ArenaStateRef, RestoreError, site_digest};
 
 /// A fixed-step clock of the arena.
@@ -173,8 +176,9 @@ pub struct Arena {
     pub calibration: Option<Arc<crate::calibrate::Calibration>>,
     /// Per clock: its next tick, while it runs.
     next_tick: [Option<EventId>; 3],
-    /// The active bodies on a grid, for vision ([`bodies_near`](Self::bodies_near)).
-    grid: Mutex<grid::BodyGrid>,
+    /// The active bodies on a grid, for vision ([`bodies_near`](Self::bodies_near)), and
+    /// what each looker's last look could see ([`in_sight`](Self::in_sight)).
+    vision: Mutex<looks::Looks>,
     /// Line-of-sight answers so far ([`visible`](Self::visible)).
     sight: Mutex<sight::SightMemo>,
 }
@@ -237,7 +241,7 @@ impl Arena {
             tracks: TrackCache::default(),
             calibration: None,
             next_tick: [None; 3],
-            grid: Mutex::default(),
+            vision: Mutex::default(),
             sight: Mutex::default(),
         }
     }

@@ -274,24 +274,61 @@ impl FriendFoeVision {
         b: &Body,
         rng: &mut impl Rng,
     ) -> Option<Sighting> {
-        let d = dist3(me.pos, b.pos);
-        if rng.random::<f64>() >= self.detection_probability(d) {
+        self.draw(&self.in_sight(me, id, b), rng)
+    }
+
+    /// What a look from `me` knows, before any draw, of body `b` of entity `id` that it can
+    /// see: its distance, detection probability and bearing.
+    pub fn in_sight(&self, me: &Body, id: EntityId, b: &Body) -> InSight {
+        let distance = dist3(me.pos, b.pos);
+        InSight {
+            id,
+            pos: b.pos,
+            side: b.side,
+            distance,
+            p_detect: self.detection_probability(distance),
+            bearing: libm::atan2(b.pos[1] - me.pos[1], b.pos[0] - me.pos[0]),
+        }
+    }
+
+    /// The draws of a look at a body it can see ([`sighting`](Self::sighting), from what
+    /// [`in_sight`](Self::in_sight) knew of it): detection, then identification.
+    pub fn draw(&self, s: &InSight, rng: &mut impl Rng) -> Option<Sighting> {
+        if rng.random::<f64>() >= s.p_detect {
             return None;
         }
         let seen_as = if rng.random::<f64>() < self.misidentification {
-            let others: Vec<Side> = Side::ALL.into_iter().filter(|s| *s != b.side).collect();
+            let others: Vec<Side> = Side::ALL.into_iter().filter(|o| *o != s.side).collect();
             others[rng.random_range(0..others.len())]
         } else {
-            b.side
+            s.side
         };
         Some(Sighting {
-            id,
-            pos: b.pos,
-            distance: d,
-            bearing: libm::atan2(b.pos[1] - me.pos[1], b.pos[0] - me.pos[0]),
+            id: s.id,
+            pos: s.pos,
+            distance: s.distance,
+            bearing: s.bearing,
             seen_as,
         })
     }
+}
+
+/// A body a look can see (in range, in the field of view, in line of sight), with what the
+/// look knows of it before drawing ([`FriendFoeVision::in_sight`]).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct InSight {
+    /// The entity.
+    pub id: EntityId,
+    /// Its true position.
+    pub pos: [f64; 3],
+    /// Its true side.
+    pub side: Side,
+    /// How far, metres.
+    pub distance: f64,
+    /// Its detection probability at that distance.
+    pub p_detect: f64,
+    /// Direction, radians counter-clockwise from east.
+    pub bearing: f64,
 }
 
 impl Sensor<World> for FriendFoeVision {

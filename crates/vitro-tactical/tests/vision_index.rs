@@ -104,7 +104,8 @@ fn the_grid_sees_what_a_scan_sees() {
     let (mut grid_rngs, mut scan_rngs) = (RngStreams::new(5), RngStreams::new(5));
     let mut seen = 0;
     for round in 0..40 {
-        // Every tenth round moves more bodies than a write log holds: the grid rebuilds.
+        // Every tenth round moves more bodies than a write log holds: the grid looks every
+        // body up again.
         let moves = if round % 10 == 9 { 2 * WRITE_LOG } else { 7 };
         for _ in 0..moves {
             let id = EntityId(rng.random_range(0..N));
@@ -143,6 +144,113 @@ fn the_grid_sees_what_a_scan_sees() {
         hits > 0 && casts > 0,
         "{hits} answers from the memo, {casts} cast"
     );
+    let counts = a.look_counts();
+    assert!(
+        counts.updated > 100 && counts.computed > 100,
+        "looks: {counts:?}"
+    );
+}
+
+/// Every third observer looks through the arena and by a scan, each from its own streams;
+/// the two must agree.
+fn look_all(a: &Arena, v: &FriendFoeVision, t: u64, grid: &mut RngStreams, scan_: &mut RngStreams) {
+    for i in (0..N).step_by(3) {
+        let me = EntityId(i);
+        let mut probe = Probe::new(SimTime::from_secs(t), me, grid);
+        let got = Look(*v).read(a, me, &mut probe);
+        assert_eq!(got, scan(a, v, me, scan_), "look {t}, observer {i}");
+    }
+}
+
+#[test]
+fn a_remembered_look_sees_what_a_scan_sees() {
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let mut a = arena(&mut rng);
+    let v = FriendFoeVision {
+        range: 150.0,
+        half_fov: 1.2,
+        p0: 0.9,
+        k: 1.0,
+        misidentification: 0.3,
+    };
+    let observers = (0..N)
+        .step_by(3)
+        .filter(|i| a.body(EntityId(*i)).is_some())
+        .count() as u64;
+    let (mut g, mut s) = (RngStreams::new(9), RngStreams::new(9));
+    // Nothing moves: after the first look, every look comes from the memo.
+    for t in 0..3 {
+        look_all(&a, &v, t, &mut g, &mut s);
+    }
+    let c = a.look_counts();
+    assert_eq!(
+        (c.computed, c.remembered, c.updated),
+        (observers, 2 * observers, 0)
+    );
+    // A body written again with the same bits changes nothing.
+    a.vtol.update(EntityId(5), |b| b.pos[0] += 0.0);
+    look_all(&a, &v, 3, &mut g, &mut s);
+    assert_eq!(a.look_counts().remembered, 3 * observers);
+    // One body moves a little, another changes side, another goes down, an observer
+    // turns: the looks are brought up to date (and agree with the scan), the observer who
+    // turned looks afresh; the next looks are answered from the memo.
+    let turner = (0..N)
+        .step_by(3)
+        .find(|i| a.body(EntityId(*i)).is_some())
+        .unwrap();
+    a.vtol.update(EntityId(10), |b| b.pos[1] += 0.5);
+    a.conditions.update(EntityId(20), |c| c.side = Side::Red);
+    a.conditions
+        .update(EntityId(31), |c| c.status = Status::Down);
+    a.vtol.update(EntityId(turner), |b| b.att[2] += 0.01);
+    for t in 4..6 {
+        look_all(&a, &v, t, &mut g, &mut s);
+    }
+    let c = a.look_counts();
+    assert_eq!(
+        c.computed,
+        observers + 1,
+        "only the turned observer looks afresh"
+    );
+    // The others go through the four changes once, and examine again only the changed
+    // bodies in their range: few of the four per look.
+    assert_eq!(c.updated, observers - 1);
+    assert!(
+        c.examined > 4 && c.examined < 2 * observers,
+        "{} bodies examined again in {observers} looks",
+        c.examined
+    );
+    assert_eq!(c.remembered + c.updated + c.computed, 6 * observers);
+    // Many changes between two looks: more than a look goes through, so it looks afresh.
+    for t in 0..100 {
+        for _ in 0..60 {
+            let id = EntityId(rng.random_range(0..N));
+            a.vtol.update(id, |b| b.pos[0] += 1.0);
+        }
+        look_one(&a, &v, t, turner, &mut g, &mut s);
+    }
+    look_all(&a, &v, 100, &mut g, &mut s);
+    let d = a.look_counts();
+    assert!(d.computed >= c.computed + observers - 1, "{d:?}");
+    // Another sensor (a longer range) from the same observers is another question.
+    let far = FriendFoeVision { range: 400.0, ..v };
+    look_all(&a, &far, 101, &mut g, &mut s);
+    assert_eq!(a.look_counts().computed, d.computed + observers);
+}
+
+/// One observer looks, through the arena and by a scan.
+fn look_one(
+    a: &Arena,
+    v: &FriendFoeVision,
+    t: u64,
+    i: u32,
+    grid: &mut RngStreams,
+    scan_: &mut RngStreams,
+) {
+    let me = EntityId(i);
+    let mut probe = Probe::new(SimTime::from_secs(t), me, grid);
+    let got = Look(*v).read(a, me, &mut probe);
+    assert_eq!(got, scan(a, v, me, scan_), "look {t}, observer {i}");
 }
 
 #[test]

@@ -104,7 +104,9 @@ impl Adversary {
             .filter(|s| s.seen_as == Side::Blue && s.distance <= m.attack_range_m)
             .map(|s| s.id)
             .collect();
-        self.aim.retain(|id, _| blue.contains(id));
+        if !self.aim.is_empty() {
+            self.aim.retain(|id, _| blue.contains(id));
+        }
         for id in blue {
             let since = *self.aim.entry(id).or_insert(now);
             let aimed = now.saturating_since(since).as_secs_f64() >= m.attack_aim_s;

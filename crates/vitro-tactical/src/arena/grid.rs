@@ -8,7 +8,8 @@
 //! storages a body depends on ([`Bodies`]: for the arena, the seven pose storages and the
 //! conditions) through their write logs ([`EntityStorage::written_since`]): the entities
 //! written since its last query are looked up again; a storage that was written more than
-//! its log holds, or replaced, makes it rebuild from scratch. A query returns exactly the
+//! its log holds, or replaced, makes it look every entity up again (in the cells laid out at
+//! its first build: a body beyond them is kept in a border cell). A query returns exactly the
 //! bodies [`Bodies::body`] gives for those entities, in id order, so a sensor that filters
 //! them with the same tests as a scan of every entity sees the same things in the same order
 //! (and draws the same random numbers).
@@ -71,10 +72,88 @@ pub(crate) struct BodyGrid {
     bodies: Vec<Option<(Body, usize)>>,
     /// Entity indices whose position is not finite: every query returns them.
     strays: Vec<u32>,
+    /// Rebuilds so far: cells and changes of an earlier generation mean nothing now.
+    generation: u64,
+    /// Changes of a body so far (the grid's clock; a body written again with the same bits
+    /// is no change).
+    clock: u64,
+    /// The latest changes (at least [`LOG`] of them, unless the grid was rebuilt since),
+    /// oldest first: `log[k]` is change number `log_start + k` of the clock.
+    log: Vec<Change>,
+    /// The clock of `log[0]`.
+    log_start: u64,
+    /// Times every body was looked up again ([`resync`](Self::resync)).
+    pub(crate) resyncs: u64,
+}
+
+/// Changes the grid remembers at least (the log holds between this and twice as many).
+pub(crate) const LOG: usize = 1 << 14;
+
+/// One change of a body: the cells it was in before and after (column and row; [`OFF`]:
+/// no active body, [`STRAYED`]: a position that is not finite).
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Change {
+    /// The entity index.
+    pub(crate) id: u32,
+    before: [u16; 2],
+    after: [u16; 2],
+}
+
+/// The cell of a change for no active body.
+const OFF: [u16; 2] = [u16::MAX, u16::MAX];
+/// The cell of a change for a body whose position is not finite.
+const STRAYED: [u16; 2] = [u16::MAX - 1, u16::MAX - 1];
+
+/// True if `b` is horizontally within `r` metres of `(x, y)`, with a hair of slack for
+/// rounding (a body within the radius in 3D is never left out).
+fn within(x: f64, y: f64, r: f64, b: &Body) -> bool {
+    let r2 = r * r * (1.0 + 1e-9) + 1e-9;
+    let (dx, dy) = (b.pos[0] - x, b.pos[1] - y);
+    dx * dx + dy * dy <= r2
+}
+
+/// The same body, bit for bit (what vision sees of it cannot differ).
+fn same(a: &Body, b: &Body) -> bool {
+    let bits = |b: &Body| {
+        [
+            b.pos[0].to_bits(),
+            b.pos[1].to_bits(),
+            b.pos[2].to_bits(),
+            b.heading.to_bits(),
+            b.height.to_bits(),
+        ]
+    };
+    a.side == b.side && bits(a) == bits(b)
 }
 
 /// The cell of a body whose position is not finite.
 const STRAY: usize = usize::MAX;
+
+/// What a query looks at: its centre and radius, and the cells that cover it.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Area {
+    x: f64,
+    y: f64,
+    r: f64,
+    /// Columns `x0..=x1` and rows `y0..=y1`: `[x0, x1, y0, y1]`.
+    cells: [i64; 4],
+}
+
+impl Area {
+    fn holds(&self, cx: i64, cy: i64) -> bool {
+        let [x0, x1, y0, y1] = self.cells;
+        (x0..=x1).contains(&cx) && (y0..=y1).contains(&cy)
+    }
+
+    /// True if the query looks at the cell a change put a body in or took it from (a stray:
+    /// every query does): whether the body could be in its answer before or after.
+    pub(crate) fn touches(&self, c: &Change) -> bool {
+        let inside = |cr: [u16; 2]| {
+            cr == STRAYED || (cr != OFF && self.holds(i64::from(cr[0]), i64::from(cr[1])))
+        };
+        inside(c.before) || inside(c.after)
+    }
+}
 
 impl BodyGrid {
     fn cell_of(&self, x: f64, y: f64) -> usize {
@@ -122,6 +201,10 @@ impl BodyGrid {
         for (id, b) in bodies {
             self.put(id, Some(b));
         }
+        // A new generation: what changed before means nothing in its cells.
+        self.generation += 1;
+        self.log.clear();
+        self.log_start = self.clock + 1;
         self.marks = Some(w.marks());
     }
 
@@ -131,8 +214,27 @@ impl BodyGrid {
         if self.bodies.len() <= i {
             self.bodies.resize(i + 1, None);
         }
+        let unchanged = match (&self.bodies[i], &body) {
+            (Some((a, _)), Some(b)) => same(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        if unchanged {
+            return;
+        }
         let new_cell = body.map(|b| self.cell_of(b.pos[0], b.pos[1]));
         let old_cell = self.bodies[i].map(|(_, c)| c);
+        self.clock += 1;
+        let change = Change {
+            id: id.0,
+            before: self.column_row(old_cell),
+            after: self.column_row(new_cell),
+        };
+        if self.log.len() >= 2 * LOG {
+            self.log.drain(..LOG);
+            self.log_start += LOG as u64;
+        }
+        self.log.push(change);
         if old_cell != new_cell {
             if let Some(c) = old_cell {
                 let cell = if c == STRAY {
@@ -153,8 +255,25 @@ impl BodyGrid {
         self.bodies[i] = body.zip(new_cell);
     }
 
+    /// Looks every body up again, in the same cells (only what changed goes in the log).
+    fn resync(&mut self, w: &impl Bodies) {
+        self.resyncs += 1;
+        let mut found = vec![false; self.bodies.len()];
+        for (id, b) in w.all() {
+            if let Some(f) = found.get_mut(id.index()) {
+                *f = true;
+            }
+            self.put(id, Some(b));
+        }
+        for (i, f) in found.into_iter().enumerate() {
+            if !f && self.bodies[i].is_some() {
+                self.put(EntityId(i as u32), None);
+            }
+        }
+    }
+
     /// Catches up with the storages of `w`.
-    fn sync(&mut self, w: &impl Bodies) {
+    pub(crate) fn sync(&mut self, w: &impl Bodies) {
         let now = w.marks();
         let Some(then) = self.marks else {
             self.rebuild(w);
@@ -169,14 +288,15 @@ impl BodyGrid {
                 continue;
             }
             // A storage replaced or rewound (a restore) shows as fewer writes or as the same
-            // count with another digest: rebuild.
+            // count with another digest: look everything up again.
             match (b.writes > a.writes)
                 .then(|| w.written(i, a.writes))
                 .flatten()
             {
                 Some(ids) => changed.extend(ids),
                 None => {
-                    self.rebuild(w);
+                    self.resync(w);
+                    self.marks = Some(now);
                     return;
                 }
             }
@@ -189,6 +309,60 @@ impl BodyGrid {
         self.marks = Some(now);
     }
 
+    /// The cells a query of `radius` metres around `(x, y)` covers (columns `x0..=x1`, rows
+    /// `y0..=y1`), and the radius it uses.
+    fn span(&self, x: f64, y: f64, radius: f64) -> ([i64; 4], f64) {
+        let r = if radius.is_finite() {
+            radius.max(0.0)
+        } else {
+            f64::INFINITY
+        };
+        let (x0, x1) = (self.axis(x - r, 0), self.axis(x + r, 0));
+        let (y0, y1) = (self.axis(y - r, 1), self.axis(y + r, 1));
+        ([x0, x1, y0, y1], r)
+    }
+
+    /// Where the grid stands in time: its generation and its clock.
+    pub(crate) fn now(&self) -> (u64, u64) {
+        (self.generation, self.clock)
+    }
+
+    /// The column and row of a cell (see [`Change`]).
+    fn column_row(&self, cell: Option<usize>) -> [u16; 2] {
+        match cell {
+            None => OFF,
+            Some(STRAY) => STRAYED,
+            // Dimensions are at most 4096 cells.
+            Some(c) => {
+                let d = self.dims[0] as usize;
+                [(c % d) as u16, (c / d) as u16]
+            }
+        }
+    }
+
+    /// The changes after clock `at`, oldest first, if the log still holds them all.
+    pub(crate) fn changes_since(&self, at: u64) -> Option<&[Change]> {
+        let from = (at + 1).checked_sub(self.log_start)?;
+        self.log.get(usize::try_from(from).ok()?..)
+    }
+
+    /// The area a query of `radius` metres around `(x, y)` looks at.
+    pub(crate) fn area(&self, x: f64, y: f64, radius: f64) -> Area {
+        let (cells, r) = self.span(x, y, radius);
+        Area { x, y, r, cells }
+    }
+
+    /// The body of entity index `e` if a query of `area` returns it now
+    /// ([`query`](Self::query)).
+    pub(crate) fn returned(&self, area: &Area, e: u32) -> Option<Body> {
+        let (b, cell) = (*self.bodies.get(e as usize)?)?;
+        if cell == STRAY {
+            return Some(b);
+        }
+        let (cx, cy) = (cell as i64 % self.dims[0], cell as i64 / self.dims[0]);
+        (area.holds(cx, cy) && within(area.x, area.y, area.r, &b)).then_some(b)
+    }
+
     /// The active bodies within `radius` metres of `(x, y)` horizontally (and perhaps a few
     /// more, never fewer: those off the grid's cells), in no particular order.
     pub(crate) fn near(
@@ -199,20 +373,12 @@ impl BodyGrid {
         radius: f64,
     ) -> Vec<(EntityId, Body)> {
         self.sync(w);
-        let r = if radius.is_finite() {
-            radius.max(0.0)
-        } else {
-            f64::INFINITY
-        };
-        let (x0, x1) = (self.axis(x - r, 0), self.axis(x + r, 0));
-        let (y0, y1) = (self.axis(y - r, 1), self.axis(y + r, 1));
-        // Horizontally within the radius (with a hair of slack for rounding: a body within
-        // the radius in 3D is never left out).
-        let r2 = r * r * (1.0 + 1e-9) + 1e-9;
-        let within = |b: &Body| {
-            let (dx, dy) = (b.pos[0] - x, b.pos[1] - y);
-            dx * dx + dy * dy <= r2
-        };
+        self.query(x, y, radius)
+    }
+
+    /// [`near`](Self::near) without catching up first (the caller just did).
+    pub(crate) fn query(&self, x: f64, y: f64, radius: f64) -> Vec<(EntityId, Body)> {
+        let ([x0, x1, y0, y1], r) = self.span(x, y, radius);
         let mut out: Vec<(EntityId, Body)> = Vec::new();
         for &e in &self.strays {
             if let Some(Some((b, _))) = self.bodies.get(e as usize) {
@@ -224,7 +390,7 @@ impl BodyGrid {
             for cx in x0..=x1 {
                 for &e in &self.cells[(row + cx) as usize] {
                     if let Some(Some((b, _))) = self.bodies.get(e as usize)
-                        && within(b)
+                        && within(x, y, r, b)
                     {
                         out.push((EntityId(e), *b));
                     }

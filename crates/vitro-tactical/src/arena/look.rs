@@ -33,10 +33,24 @@ impl Arena {
     /// [`bodies_near`](Self::bodies_near) in no particular order (for a sensor that sorts
     /// only what it keeps).
     pub fn bodies_within(&self, x: f64, y: f64, radius: f64) -> Vec<(EntityId, Body)> {
-        match self.grid.lock() {
-            Ok(mut g) => g.near(self, x, y, radius),
+        match self.vision.lock() {
+            Ok(mut v) => v.grid.near(self, x, y, radius),
             // A panic elsewhere poisoned the lock: examine everything.
             Err(_) => self.all(),
+        }
+    }
+
+    /// The active bodies of aircraft (by role: [`Role::is_aircraft`]) within `radius` metres
+    /// of `(x, y)` horizontally, perhaps with a few more but never fewer, in no particular
+    /// order: a query of [`bodies_within`](Self::bodies_within) for aircraft only, from a
+    /// grid of their own (a few aircraft among thousands of bodies).
+    ///
+    /// [`Role::is_aircraft`]: crate::condition::Role::is_aircraft
+    pub fn aircraft_within(&self, x: f64, y: f64, radius: f64) -> Vec<(EntityId, Body)> {
+        let air = Aircraft(self);
+        match self.vision.lock() {
+            Ok(mut v) => v.air.near(&air, x, y, radius),
+            Err(_) => air.all(),
         }
     }
 
@@ -93,6 +107,38 @@ impl Bodies for Arena {
         self.conditions
             .iter()
             .filter_map(|(id, _)| Arena::body(self, id).map(|b| (id, b)))
+            .collect()
+    }
+}
+
+/// The arena's aircraft: its bodies of entities whose role is an aircraft's.
+struct Aircraft<'a>(&'a Arena);
+
+impl Aircraft<'_> {
+    fn flies(&self, id: EntityId) -> bool {
+        self.0
+            .conditions
+            .get(id)
+            .is_some_and(|c| c.role.is_aircraft())
+    }
+}
+
+impl Bodies for Aircraft<'_> {
+    fn marks(&self) -> [Mark; SOURCES] {
+        self.0.marks()
+    }
+    fn written(&self, i: usize, since: u64) -> Option<Vec<EntityId>> {
+        self.0.written(i, since)
+    }
+    fn body(&self, id: EntityId) -> Option<Body> {
+        Arena::body(self.0, id).filter(|_| self.flies(id))
+    }
+    fn all(&self) -> Vec<(EntityId, Body)> {
+        self.0
+            .conditions
+            .iter()
+            .filter(|(_, c)| c.role.is_aircraft())
+            .filter_map(|(id, _)| Arena::body(self.0, id).map(|b| (id, b)))
             .collect()
     }
 }

@@ -62,9 +62,9 @@ macro_rules! arena_state {
                     roads,
                     // Planned tracks are a cache: a trip plans its track again when needed.
                     tracks: TrackCache::default(),
-                    // So are the vision grid (rebuilt from the storages at its first query)
-                    // and the line-of-sight memo.
-                    grid: Default::default(),
+                    // So are the vision grid (rebuilt from the storages at its first query),
+                    // the memo of looks and the line-of-sight memo.
+                    vision: Default::default(),
                     sight: Default::default(),
                     // The calibration comes from the scenario: the caller sets it again.
                     calibration: None,

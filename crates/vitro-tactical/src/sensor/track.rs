@@ -71,15 +71,12 @@ impl Sensor<Arena> for Look {
         let Some(mine) = w.body(me) else {
             return Vec::new();
         };
-        // Only bodies within the range can be seen: the arena's grid gives them. Which ones
-        // can be seen does not depend on the order; the draws then go in id order, as in a
-        // look at every entity in id order.
-        let mut seen = w.bodies_within(mine.pos[0], mine.pos[1], self.0.range);
-        seen.retain(|(id, b)| *id != me && self.0.can_see_by(&mine, b, |p, q| w.visible(p, q)));
-        seen.sort_unstable_by_key(|(id, _)| *id);
+        // The bodies it can see, in id order (from the arena's grid and its memo of looks);
+        // the draws then go in id order, as in a look at every entity in id order.
+        let seen = w.in_sight(me, &mine, &self.0);
         let rng = probe.rng("fof");
-        seen.into_iter()
-            .filter_map(|(id, b)| self.0.sighting(&mine, id, &b, &mut *rng))
+        seen.iter()
+            .filter_map(|s| self.0.draw(s, &mut *rng))
             .collect()
     }
 }
