@@ -21,7 +21,7 @@ pub(crate) struct Looks {
     pub(super) counts: LookCounts,
 }
 
-/// How looks were answered ([`Arena::look_counts`]).
+/// How looks were answered ([`Arena::look_counts`](crate::arena::Arena::look_counts)).
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub struct LookCounts {
     /// From the memo, nothing having changed in the looker's range.
