@@ -10,17 +10,10 @@ Each run is `vitro run scenarios/evacuation.toml --json --seed S --fidelity LEVE
 with --batch, the runs of a `vitro batch` of experiments/mission_hunt.toml are read instead,
 one row per point (lead, search and budget).
 """
-import argparse, json, math, statistics, subprocess, sys
+import argparse, json, statistics, subprocess, sys
 from concurrent.futures import ThreadPoolExecutor
 
-def wilson(k, n, z=1.96):
-    if n == 0:
-        return (0.0, 1.0)
-    p = k / n
-    d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return (max(0.0, c - h), min(1.0, c + h))
+from table_stats import wilson
 
 def run(a, seed):
     p = subprocess.run([a.binary, "run", a.scenario, "--json", "--seed", str(seed),

@@ -24,30 +24,11 @@ pub struct Scatter {
 /// Draws `scatter` to `STEM.png` and `STEM.svg`, with the diagonal `y = x` over the range of
 /// the data.
 pub fn plot_scatter(scatter: &Scatter, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
-    let dot = |x: f64, y: f64| {
-        (
-            x,
-            MeanCi {
-                n: 1,
-                mean: y,
-                lo: y,
-                hi: y,
-            },
-        )
-    };
     let all = scatter.groups.iter().flat_map(|(_, p)| p.iter());
     let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(x, y)| {
         (lo.min(x).min(y), hi.max(x).max(y))
     });
-    let mut lines: Vec<Line> = scatter
-        .groups
-        .iter()
-        .map(|(label, pts)| Line {
-            label: Some(format!("{label} (n = {})", pts.len())),
-            connect: false,
-            points: pts.iter().map(|&(x, y)| dot(x, y)).collect(),
-        })
-        .collect();
+    let mut lines = group_lines(scatter);
     if lo.is_finite() && hi > lo {
         lines.push(Line {
             label: Some("y = x".into()),
@@ -55,14 +36,7 @@ pub fn plot_scatter(scatter: &Scatter, stem: &Path) -> Result<Vec<PathBuf>, Plot
             points: vec![dot(lo, lo), dot(hi, hi)],
         });
     }
-    let chart = Chart::Xy(XyChart {
-        title: scatter.title.clone(),
-        x_desc: scatter.x_desc.clone(),
-        y_desc: scatter.y_desc.clone(),
-        note: scatter.note.clone(),
-        lines,
-    });
-    draw::save(&chart, stem)
+    save(scatter, lines, stem)
 }
 
 /// Draws `scatter` to `STEM.png` and `STEM.svg` as residuals: its y values are errors
@@ -73,30 +47,11 @@ pub fn plot_residuals(
     band: f64,
     stem: &Path,
 ) -> Result<Vec<PathBuf>, PlotError> {
-    let dot = |x: f64, y: f64| {
-        (
-            x,
-            MeanCi {
-                n: 1,
-                mean: y,
-                lo: y,
-                hi: y,
-            },
-        )
-    };
     let all = scatter.groups.iter().flat_map(|(_, p)| p.iter());
     let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(x, _)| {
         (lo.min(x), hi.max(x))
     });
-    let mut lines: Vec<Line> = scatter
-        .groups
-        .iter()
-        .map(|(label, pts)| Line {
-            label: Some(format!("{label} (n = {})", pts.len())),
-            connect: false,
-            points: pts.iter().map(|&(x, y)| dot(x, y)).collect(),
-        })
-        .collect();
+    let mut lines = group_lines(scatter);
     if lo.is_finite() && hi > lo {
         // y = 0, shaded from -band to +band.
         let edge = |x: f64| {
@@ -120,6 +75,37 @@ pub fn plot_residuals(
             },
         );
     }
+    save(scatter, lines, stem)
+}
+
+/// One point, drawn as a dot (no interval).
+fn dot(x: f64, y: f64) -> (f64, MeanCi) {
+    (
+        x,
+        MeanCi {
+            n: 1,
+            mean: y,
+            lo: y,
+            hi: y,
+        },
+    )
+}
+
+/// Each group of `scatter` as unconnected dots, labelled with its size.
+fn group_lines(scatter: &Scatter) -> Vec<Line> {
+    scatter
+        .groups
+        .iter()
+        .map(|(label, pts)| Line {
+            label: Some(format!("{label} (n = {})", pts.len())),
+            connect: false,
+            points: pts.iter().map(|&(x, y)| dot(x, y)).collect(),
+        })
+        .collect()
+}
+
+/// Draws `lines` with `scatter`'s titles to `STEM.png` and `STEM.svg`.
+fn save(scatter: &Scatter, lines: Vec<Line>, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
     let chart = Chart::Xy(XyChart {
         title: scatter.title.clone(),
         x_desc: scatter.x_desc.clone(),
