@@ -10,7 +10,9 @@
 //!
 //! A maneuver takes its length at the commanded speed (a climb no faster than the type's
 //! climb rate for a helicopter), so a lattice trajectory never jumps further than its speed
-//! allows.
+//! allows. Under a calibration with a fit for the type ([`crate::calibrate::air`]), a
+//! waypoint command is flown at an effective speed, the commanded one divided by the
+//! predicted stretch of its route.
 
 use super::{FlyError, engage, reached, validate};
 use crate::arena::{Arena, Ev};
@@ -44,6 +46,12 @@ impl Actuator<Arena, Ev> for Autopilot {
         validate(&cmd)?;
         let b = w.lattice.get(me).ok_or(FlyError::NoBody(me))?;
         let moving = b.moving_to.is_some();
+        // A calibration flies the command at its effective speed (`calibrate::air`).
+        let cmd = w
+            .calibration
+            .as_ref()
+            .and_then(|c| c.air_command(&w.types, b, &cmd))
+            .unwrap_or(cmd);
         engage(w, me, cmd);
         if !moving {
             start_next(w, me, fx);
@@ -92,6 +100,18 @@ fn start_next(w: &mut Arena, me: EntityId, fx: &mut Effects<'_, Ev>) {
             let v = command_speed(&pilot.cmd).unwrap_or(ty.cruise_speed);
             (false, v.clamp(0.1, ty.max_speed), ty.max_climb)
         }
+    };
+    // A calibrated command's speed is the effective speed, already within the envelope
+    // before the calibration's stretch: flown as it stands.
+    let speed = match command_speed(&pilot.cmd) {
+        Some(v)
+            if w.calibration
+                .as_ref()
+                .is_some_and(|c| c.air_fit(b.kind).is_some()) =>
+        {
+            v
+        }
+        _ => speed,
     };
     let l = b.lattice;
     // Waypoints reached now (in the cell, at the layer for a helicopter).

@@ -24,11 +24,16 @@
 //! uncalibrated time (`T_physical × T_profile / T_interpolated`) so that its stretched run
 //! lands on the concrete time.
 //!
+//! The aircraft's lattice is calibrated against their continuous levels by a model of the
+//! same shape ([`air`]), fitted on sample flights ([`flights`]).
+//!
 //! A calibration is made for one map and terrain ([`site_fingerprint`]) and one type set
 //! ([`types_fingerprint`]); a scenario that names a calibration made for another is refused.
 
+pub mod air;
 pub mod evaluate;
 pub mod fit;
+pub mod flights;
 pub mod squad;
 pub mod trips;
 
@@ -323,6 +328,12 @@ pub struct Calibration {
     /// The sample trips.
     #[serde(rename = "trip", default)]
     pub trips: Vec<TripRecord>,
+    /// The aircraft's lattice fits ([`air`]); none in a file made before them.
+    #[serde(rename = "aircraft", default)]
+    pub aircraft: Vec<air::AirFit>,
+    /// The sample flights of the aircraft fits.
+    #[serde(rename = "flight", default)]
+    pub flights: Vec<air::FlightRecord>,
 }
 
 /// The calibration's entity key of a node-level body kind.
@@ -357,6 +368,9 @@ impl Calibration {
                 return Err(format!("squad fit at {}: a stretch is not finite", f.level));
             }
         }
+        for f in &c.aircraft {
+            f.check()?;
+        }
         for f in &c.fits {
             let ok = [f.alpha, f.beta, f.kappa, f.gamma, f.delta]
                 .iter()
@@ -381,6 +395,9 @@ impl Calibration {
              #       + delta * start_turn_rad\n\
              # [[squad]]: the stretch of a squad leader's discrete hops at its normal and\n\
              # slow pace, fitted on squad walks at the directed level.\n\
+             # [[aircraft]]: the lattice's flight times fitted to the kinematic (fixed-wing)\n\
+             # and dynamic (helicopter) levels: T = alpha * T_profile + beta * rest\n\
+             #   + kappa * turn_rad + gamma * vertical_m + delta * start_turn_rad.\n\
              # A scenario uses it with `[fidelity] calibration = \"FILE\"` (same map, terrain\n\
              # and type set only). Residuals: % of the concrete time (bias signed, negative =\n\
              # the abstract level is optimistic); held_out: trips not used by the fit.\n\n{body}",
