@@ -48,8 +48,8 @@ fn the_calibrated_lattice_predicts_each_continuous_level_better() {
         AirKind::Vtol(VtolKind::Vidar),
         AirKind::Vtol(VtolKind::Skeldar),
     ];
-    let flights = sample_flights(&s, &small(kinds.clone(), 3, 8, 0));
-    assert_eq!(flights.len(), 24);
+    let flights = sample_flights(&s, &small(kinds.clone(), 3, 12, 0));
+    assert_eq!(flights.len(), 36);
     let mut cal = empty();
     calibrate_air(&s, &flights, &mut cal, 2, &|| {}).unwrap();
     assert_eq!(cal.aircraft.len(), 3);
@@ -57,18 +57,36 @@ fn the_calibrated_lattice_predicts_each_continuous_level_better() {
     assert_eq!(Calibration::parse(&cal.to_toml().unwrap()).unwrap(), cal);
     // Fresh flights the fit did not see.
     let cal = Arc::new(cal);
-    let fresh = sample_flights(&s, &small(kinds, 77, 0, 4));
+    let fresh = sample_flights(&s, &small(kinds, 77, 0, 5));
     let rows = evaluate_air(&s, &cal, &fresh, 5.0, 2, &|| {}).unwrap();
     assert_eq!(rows.len(), 3, "{rows:?}");
     for p in &rows {
-        let r = &p.residuals;
-        assert!(r.n >= 3, "{p:?}");
-        // The lattice is optimistic (no acceleration, no braking, free turns) ...
-        assert!(r.bias_pct_before < -BIAS_TOLERANCE_PCT, "{p:?}");
-        // ... and the calibration takes the bias into the tolerance.
-        assert!(r.bias_pct_after.abs() < BIAS_TOLERANCE_PCT, "{p:?}");
-        assert!(r.mape_pct_after < r.mape_pct_before / 2.0, "{p:?}");
+        println!("{p:?}");
     }
+    for p in &rows {
+        let r = &p.residuals;
+        assert!(r.n >= 4, "{p:?}");
+        // The calibrated lattice's bias is within the tolerance, and at most half the plain
+        // lattice's where that is outside it (the helicopters' lattice is optimistic: no
+        // acceleration, no braking; the fixed-wing lattice pessimistic: it zig-zags and
+        // loops over its cells) ...
+        assert!(r.bias_pct_after.abs() < BIAS_TOLERANCE_PCT, "{p:?}");
+        if r.bias_pct_before.abs() > BIAS_TOLERANCE_PCT {
+            assert!(
+                r.bias_pct_after.abs() < r.bias_pct_before.abs() / 2.0,
+                "{p:?}"
+            );
+        }
+        // ... and its flight times are closer, flight by flight.
+        assert!(r.rmse_s_after < r.rmse_s_before / 2.0, "{p:?}");
+    }
+    // At least one type's plain lattice is far off (the Skeldar's: a fast helicopter that
+    // the lattice has at cruise speed from the first instant).
+    assert!(
+        rows.iter()
+            .any(|p| p.residuals.bias_pct_before < -3.0 * BIAS_TOLERANCE_PCT),
+        "{rows:?}"
+    );
 }
 
 #[test]

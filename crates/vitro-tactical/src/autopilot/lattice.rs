@@ -306,6 +306,77 @@ pub fn plan_ctol(start: [i32; 2], dir: u8, goal: [i32; 2]) -> Vec<Maneuver> {
     Vec::new()
 }
 
+/// Most maneuvers [`maneuvers`] follows for one command.
+const MAX_MANEUVERS: usize = 100_000;
+
+/// The maneuvers a lattice aircraft (`ctol`: fixed-wing, else helicopter) in cell `cell`
+/// heading `dir` flies to reach every one of `points` in order, as the autopilot decides
+/// them (the cells do not depend on the speed): each maneuver's horizontal and vertical
+/// length, metres. `None` if the last waypoint is not reached within a bound.
+pub fn maneuvers(
+    l: &crate::entity::air::Lattice,
+    ctol: bool,
+    cell: [i32; 3],
+    dir: u8,
+    points: &[[f64; 3]],
+) -> Option<Vec<[f64; 2]>> {
+    let mut b = LatticeBody {
+        kind: AirKind::Ctol(crate::types::CtolKind::Procerus),
+        lattice: *l,
+        cell,
+        dir,
+        speed: 0.0,
+        moving_to: None,
+        pending: None,
+    };
+    let mut plan: Vec<Maneuver> = Vec::new();
+    let mut out = Vec::new();
+    let mut next = 0;
+    while out.len() < MAX_MANEUVERS {
+        // Waypoints reached in this cell, as in `start_next`.
+        while let Some(&p) = points.get(next) {
+            let g = l.cell_of(p);
+            if !(b.cell[0] == g[0] && b.cell[1] == g[1] && (ctol || b.cell[2] == g[2])) {
+                break;
+            }
+            next += 1;
+            plan.clear();
+        }
+        let Some(&p) = points.get(next) else {
+            return Some(out);
+        };
+        let g = l.cell_of(p);
+        let (to, d) = if ctol {
+            if plan.is_empty() {
+                plan = plan_ctol([b.cell[0], b.cell[1]], b.dir, [g[0], g[1]]);
+            }
+            let m = plan.pop().unwrap_or(Maneuver { turn: 0, climb: 0 });
+            ctol_move(&b, i32::from(m.turn), sign(g[2] - b.cell[2]))
+        } else {
+            let d = [g[0] - b.cell[0], g[1] - b.cell[1], g[2] - b.cell[2]];
+            let to = [
+                b.cell[0] + sign(d[0]),
+                b.cell[1] + sign(d[1]),
+                b.cell[2] + sign(d[2]),
+            ];
+            let dir = if d[0] != 0 || d[1] != 0 {
+                dir_of(libm::atan2(f64::from(sign(d[1])), f64::from(sign(d[0]))))
+            } else {
+                b.dir
+            };
+            (to, dir)
+        };
+        let (p0, p1) = (l.point(b.cell), l.point(to));
+        out.push([
+            libm::hypot(p1[0] - p0[0], p1[1] - p0[1]),
+            (p1[2] - p0[2]).abs(),
+        ]);
+        b.cell = to;
+        b.dir = d;
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -29,13 +29,15 @@
 //! lattice leaves out: acceleration and the stop (beta), the turns at waypoints (kappa),
 //! climbs (gamma), the turn onto the route (delta); alpha takes the zig-zag and the cruise.
 //!
-//! A calibrated lattice flies each waypoint command at an effective speed: the commanded
-//! speed divided by `k = T / T_profile` (clamped to [[`STRETCH_MIN`], [`STRETCH_MAX`]]),
-//! decided when the command is engaged, from the aircraft's cell and heading then. The fit
-//! targets `T_concrete × T_profile / T_lattice` (the lattice's own zig-zag is in its
-//! uncalibrated time, which scales with 1 / speed), so that the stretched lattice lands on
-//! the concrete time. Without a calibration, or without an `[[aircraft]]` fit for the type,
-//! the lattice flies exactly as before.
+//! A calibrated lattice flies each waypoint command at an effective speed, decided when the
+//! command is engaged from the aircraft's cell and heading then: the speed at which the
+//! maneuvers it will fly to the last waypoint take the predicted time `T`
+//! ([`maneuvers`](crate::autopilot::lattice::maneuvers): the cells a lattice aircraft flies
+//! do not depend on its speed, only their times do), within [[`STRETCH_MIN`],
+//! [`STRETCH_MAX`]] times the lattice's own time at the commanded speed. So the lattice's own
+//! detours (its zig-zag over the cells, a fixed-wing aircraft's loops) are not the model's to
+//! predict: the fit's target is the concrete time itself. Without a calibration, or without
+//! an `[[aircraft]]` fit for the type, the lattice flies exactly as before.
 
 use super::{Calibration, Residuals, STRETCH_MAX, STRETCH_MIN};
 use crate::entity::Level;
@@ -218,6 +220,34 @@ pub fn envelope(types: &TypeBook, kind: AirKind) -> ((f64, f64), f64, f64) {
     }
 }
 
+/// The speed (within `v / STRETCH_MAX ..= v / STRETCH_MIN`) at which maneuvers `legs`
+/// (horizontal and vertical metres each, climbing at `climb` m/s) take `target` seconds;
+/// `v` where there are none.
+pub fn effective_speed(legs: &[[f64; 2]], v: f64, climb: f64, target: f64) -> f64 {
+    let time = |u: f64| -> f64 {
+        legs.iter()
+            .map(|m| (m[0] / u).max(m[1] / climb.max(1e-6)))
+            .sum()
+    };
+    let (mut fast, mut slow) = (v / STRETCH_MIN, v / STRETCH_MAX);
+    if legs.is_empty() || !target.is_finite() || time(fast) >= target {
+        return if legs.is_empty() { v } else { fast };
+    }
+    if time(slow) <= target {
+        return slow;
+    }
+    // time(u) falls as u grows: bisect between a too slow and a too fast speed.
+    for _ in 0..60 {
+        let mid = 0.5 * (fast + slow);
+        if time(mid) > target {
+            slow = mid;
+        } else {
+            fast = mid;
+        }
+    }
+    0.5 * (fast + slow)
+}
+
 impl Calibration {
     /// The lattice fit of aircraft type `kind`, if any.
     pub fn air_fit(&self, kind: AirKind) -> Option<&AirFit> {
@@ -256,14 +286,13 @@ impl Calibration {
                 let heading = f64::from(dir) * std::f64::consts::FRAC_PI_4;
                 let rest = b.moving_to.is_none() && b.speed == 0.0;
                 let f = AirFeatures::of(b.lattice.point(cell), heading, rest, points, v, climb);
-                let k = if f.profile_s > 0.0 {
-                    (fit.predict(&f) / f.profile_s).clamp(STRETCH_MIN, STRETCH_MAX)
-                } else {
-                    1.0
-                };
+                let ctol = matches!(b.kind, AirKind::Ctol(_));
+                let legs =
+                    crate::autopilot::lattice::maneuvers(&b.lattice, ctol, cell, dir, points)
+                        .unwrap_or_default();
                 FlightCommand::Waypoints {
                     points: points.clone(),
-                    speed: Some(v / k),
+                    speed: Some(effective_speed(&legs, v, climb, fit.predict(&f))),
                 }
             }
         })
@@ -330,7 +359,7 @@ mod tests {
             fit_residuals: Residuals::default(),
             held_out: Residuals::default(),
         });
-        // 240 m at 12 m/s = 20 s, and 10 s for the start: 1.5 times slower.
+        // 240 m (12 cells) at 12 m/s = 20 s, and 10 s for the start: 1.5 times slower.
         let Some(FlightCommand::Waypoints { speed, .. }) = cal.air_command(types, &b, &cmd) else {
             panic!("a waypoint command");
         };

@@ -307,13 +307,13 @@ pub fn calibrate_air(
     for (entity, idx) in &groups {
         let (mut x, mut y) = (Vec::new(), Vec::new());
         for &i in idx.iter().filter(|&&i| flights[i].fit) {
-            let (Some(c), Some(l)) = (concrete[i], before[i]) else {
+            let (Some(c), Some(_)) = (concrete[i], before[i]) else {
                 continue;
             };
-            // The lattice's zig-zag scales with 1 / speed: the target is the profile time
-            // that, stretched as the lattice's own, lands on the concrete time.
+            // The calibrated lattice flies the predicted time itself (its own detours are
+            // taken out by the effective speed): the target is the concrete time.
             x.push(feats[i].row());
-            y.push(c * feats[i].profile_s / l.max(1e-9));
+            y.push(c);
         }
         let p = super::fit::least_squares(&x, &y, [1.0, 0.0, 0.0, 0.0, 0.0]);
         cal.aircraft.push(AirFit {
