@@ -32,16 +32,16 @@
 //! A calibrated lattice flies each waypoint command at an effective speed, decided when the
 //! command is engaged from the aircraft's cell and heading then: the speed at which the
 //! maneuvers it will fly to the last waypoint take the predicted time `T`
-//! ([`maneuvers`](crate::autopilot::lattice::maneuvers): the cells a lattice aircraft flies
-//! do not depend on its speed, only their times do), within [[`STRETCH_MIN`],
-//! [`STRETCH_MAX`]] times the lattice's own time at the commanded speed. So the lattice's own
+//! ([`maneuvers`](crate::autopilot::plan::maneuvers): the cells a lattice aircraft flies
+//! do not depend on its speed, only their times do), within
+//! [[`STRETCH_MIN`](super::STRETCH_MIN), [`STRETCH_MAX`](super::STRETCH_MAX)] times the lattice's own time at the commanded speed. So the lattice's own
 //! detours (its zig-zag over the cells, a fixed-wing aircraft's loops) are not the model's to
 //! predict: the fit's target is the concrete time itself. Without a calibration, or without
 //! an `[[aircraft]]` fit for the type, the lattice flies exactly as before.
 
-use super::{Calibration, Residuals, STRETCH_MAX, STRETCH_MIN};
+use super::Residuals;
 use crate::entity::Level;
-use crate::entity::air::{AirKind, FlightCommand, LatticeBody};
+use crate::entity::air::AirKind;
 use crate::entity::route::wrap_angle;
 use crate::types::TypeBook;
 use serde::{Deserialize, Serialize};
@@ -220,90 +220,9 @@ pub fn envelope(types: &TypeBook, kind: AirKind) -> ((f64, f64), f64, f64) {
     }
 }
 
-/// The speed (within `v / STRETCH_MAX ..= v / STRETCH_MIN`) at which maneuvers `legs`
-/// (horizontal and vertical metres each, climbing at `climb` m/s) take `target` seconds;
-/// `v` where there are none.
-pub fn effective_speed(legs: &[[f64; 2]], v: f64, climb: f64, target: f64) -> f64 {
-    let time = |u: f64| -> f64 {
-        legs.iter()
-            .map(|m| (m[0] / u).max(m[1] / climb.max(1e-6)))
-            .sum()
-    };
-    let (mut fast, mut slow) = (v / STRETCH_MIN, v / STRETCH_MAX);
-    if legs.is_empty() || !target.is_finite() || time(fast) >= target {
-        return if legs.is_empty() { v } else { fast };
-    }
-    if time(slow) <= target {
-        return slow;
-    }
-    // time(u) falls as u grows: bisect between a too slow and a too fast speed.
-    for _ in 0..60 {
-        let mid = 0.5 * (fast + slow);
-        if time(mid) > target {
-            slow = mid;
-        } else {
-            fast = mid;
-        }
-    }
-    0.5 * (fast + slow)
-}
-
-impl Calibration {
-    /// The lattice fit of aircraft type `kind`, if any.
-    pub fn air_fit(&self, kind: AirKind) -> Option<&AirFit> {
-        let key = air_key(kind);
-        self.aircraft
-            .iter()
-            .find(|f| f.entity == key && f.level == Level::Discrete.name())
-    }
-
-    /// The command a calibrated lattice flies for `cmd` given to aircraft `b` (None where the
-    /// calibration has no fit for its type: `cmd` as given). Waypoints: the commanded speed
-    /// (within the envelope) divided by the predicted stretch; straight flight: the
-    /// commanded speed within the envelope. The lattice flies a calibrated command's speed
-    /// as it stands.
-    pub fn air_command(
-        &self,
-        types: &TypeBook,
-        b: &LatticeBody,
-        cmd: &FlightCommand,
-    ) -> Option<FlightCommand> {
-        let fit = self.air_fit(b.kind)?;
-        let ((lo, hi), cruise, climb) = envelope(types, b.kind);
-        Some(match cmd {
-            FlightCommand::Straight {
-                heading,
-                altitude,
-                speed,
-            } => FlightCommand::Straight {
-                heading: *heading,
-                altitude: *altitude,
-                speed: Some(speed.unwrap_or(cruise).clamp(lo, hi)),
-            },
-            FlightCommand::Waypoints { points, speed } => {
-                let v = speed.unwrap_or(cruise).clamp(lo, hi);
-                let (cell, dir) = b.moving_to.unwrap_or((b.cell, b.dir));
-                let heading = f64::from(dir) * std::f64::consts::FRAC_PI_4;
-                let rest = b.moving_to.is_none() && b.speed == 0.0;
-                let f = AirFeatures::of(b.lattice.point(cell), heading, rest, points, v, climb);
-                let ctol = matches!(b.kind, AirKind::Ctol(_));
-                let legs =
-                    crate::autopilot::lattice::maneuvers(&b.lattice, ctol, cell, dir, points)
-                        .unwrap_or_default();
-                FlightCommand::Waypoints {
-                    points: points.clone(),
-                    speed: Some(effective_speed(&legs, v, climb, fit.predict(&f))),
-                }
-            }
-        })
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::entity::air::Lattice;
-    use crate::types::VtolKind;
 
     #[test]
     fn features_of_a_route() {
@@ -318,58 +237,5 @@ mod tests {
         // A climb slower than the leg: the climb rate sets the leg's time.
         let f = AirFeatures::of([0.0; 3], 0.0, false, &[[10.0, 0.0, 30.0]], 10.0, 3.0);
         assert!((f.profile_s - 10.0).abs() < 1e-9);
-    }
-
-    #[test]
-    fn a_calibrated_lattice_flies_waypoints_at_the_stretched_speed() {
-        let types = TypeBook::builtin();
-        let kind = AirKind::Vtol(VtolKind::Vidar);
-        let lattice = Lattice::for_vtol(types.vtol(VtolKind::Vidar));
-        let b = LatticeBody {
-            kind,
-            lattice,
-            cell: [0, 0, 10],
-            dir: 0,
-            speed: 0.0,
-            moving_to: None,
-            pending: None,
-        };
-        let mut cal = Calibration::parse(
-            "format = 1\nmodel = \"m\"\nscenario = \"s\"\nmap = \"m\"\n\
-             site_fingerprint = \"0\"\ntypes_fingerprint = \"0\"\nfrom = \"physical\"\n\
-             seed = 1\nwall_s = 0.0\nfit = []\n",
-        )
-        .unwrap();
-        let cmd = FlightCommand::Waypoints {
-            points: vec![[240.0, 0.0, 50.0]],
-            speed: None,
-        };
-        // No aircraft fit: the command is left alone.
-        assert_eq!(cal.air_command(types, &b, &cmd), None);
-        cal.aircraft.push(AirFit {
-            entity: "vidar".into(),
-            level: "discrete".into(),
-            concrete: "dynamic".into(),
-            alpha: 1.0,
-            beta: 10.0,
-            kappa: 0.0,
-            gamma: 0.0,
-            delta: 0.0,
-            flights: 1,
-            fit_residuals: Residuals::default(),
-            held_out: Residuals::default(),
-        });
-        // 240 m (12 cells) at 12 m/s = 20 s, and 10 s for the start: 1.5 times slower.
-        let Some(FlightCommand::Waypoints { speed, .. }) = cal.air_command(types, &b, &cmd) else {
-            panic!("a waypoint command");
-        };
-        assert!((speed.unwrap() - 8.0).abs() < 1e-9, "{speed:?}");
-        // Under way, no start cost.
-        let moving = LatticeBody { speed: 12.0, ..b };
-        let Some(FlightCommand::Waypoints { speed, .. }) = cal.air_command(types, &moving, &cmd)
-        else {
-            panic!("a waypoint command");
-        };
-        assert!((speed.unwrap() - 12.0).abs() < 1e-9, "{speed:?}");
     }
 }
