@@ -226,13 +226,13 @@ mod tests {
 
     #[test]
     fn features_of_a_route() {
-        // East 100 m, then north 100 m and 10 m up, from a hover facing north.
+        // East 100 m, then north 100 m and 10 m up, from a hover facing 1 rad left of east.
         let pts = [[100.0, 0.0, 50.0], [100.0, 100.0, 60.0]];
-        let f = AirFeatures::of([0.0, 0.0, 50.0], 1.5708, true, &pts, 10.0, 2.0);
+        let f = AirFeatures::of([0.0, 0.0, 50.0], 1.0, true, &pts, 10.0, 2.0);
         assert!((f.length_m - 200.0).abs() < 1e-9);
         assert!((f.profile_s - 20.0).abs() < 1e-9);
         assert!((f.turn_rad - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
-        assert!((f.start_turn_rad - 1.5708).abs() < 1e-9);
+        assert!((f.start_turn_rad - 1.0).abs() < 1e-9);
         assert_eq!((f.rest, f.vertical_m), (1.0, 10.0));
         // A climb slower than the leg: the climb rate sets the leg's time.
         let f = AirFeatures::of([0.0; 3], 0.0, false, &[[10.0, 0.0, 30.0]], 10.0, 3.0);
