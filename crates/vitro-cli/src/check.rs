@@ -169,6 +169,11 @@ fn predictions(
         .into_iter()
         .map(|p| {
             let r = &p.residuals;
+            let what = if matches!(p.concrete, Level::Kinematic | Level::Dynamic) {
+                "flights"
+            } else {
+                "trips"
+            };
             Row {
                 entity: p.entity,
                 level: p.level,
@@ -176,7 +181,7 @@ fn predictions(
                 pass: p.pass,
                 value: r.mape_pct_after,
                 limit: format!(
-                    "mean |error| <= {:.1} % over {} trips (uncalibrated {:.1} %, bias {:+.1} -> {:+.1} %)",
+                    "mean |error| <= {:.1} % over {} {what} (uncalibrated {:.1} %, bias {:+.1} -> {:+.1} %)",
                     p.tolerance_pct, r.n, r.mape_pct_before, r.bias_pct_before, r.bias_pct_after
                 ),
             }
