@@ -341,11 +341,11 @@ impl Calibration {
              # Model, per entity type and abstract level:\n\
              #   T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m\n\
              #       + delta * start_turn_rad\n\
-             # [[squad]]: the stretch of a squad leader's discrete hops at its normal and\n\
-             # slow pace, fitted on squad walks at the directed level.\n\
              # [[aircraft]]: the lattice's flight times fitted to the kinematic (fixed-wing)\n\
              # and dynamic (helicopter) levels: T = alpha * T_profile + beta * rest\n\
              #   + kappa * turn_rad + gamma * vertical_m + delta * start_turn_rad.\n\
+             # [[squad]]: the stretch of a squad leader's discrete hops at its normal and\n\
+             # slow pace, fitted on squad walks at the directed level.\n\
              # A scenario uses it with `[fidelity] calibration = \"FILE\"` (same map, terrain\n\
              # and type set only). Residuals: % of the concrete time (bias signed, negative =\n\
              # the abstract level is optimistic); held_out: trips not used by the fit.\n\n{body}",
