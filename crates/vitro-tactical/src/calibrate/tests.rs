@@ -36,6 +36,8 @@ fn sample() -> Calibration {
             contact: Residuals::default(),
         }],
         trips: vec![],
+        aircraft: vec![],
+        flights: vec![],
     }
 }
 
