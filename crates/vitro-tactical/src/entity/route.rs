@@ -316,6 +316,22 @@ struct Pieces {
 }
 
 impl Pieces {
+    /// The horizontal length of the pieces `ks` (in walking order) up to the first whose
+    /// heading is not the first one's.
+    #[inline]
+    fn straight_run(&self, ks: impl Iterator<Item = usize>) -> f64 {
+        let mut len = 0.0;
+        let mut h0 = None;
+        for k in ks {
+            let h = self.heading[k];
+            if !same_heading(h, *h0.get_or_insert(h)) {
+                break;
+            }
+            len += self.run[k];
+        }
+        len
+    }
+
     fn of(pts: &[[f64; 3]]) -> Self {
         let (heading, run) = pts
             .windows(2)
@@ -345,27 +361,9 @@ pub fn wrap_angle(a: f64) -> f64 {
 /// Room for a fillet at vertex `i` of the polyline of `pieces`: half the shorter of the two
 /// straight runs on either side (runs of collinear resampled points count as one).
 fn turn_room(pieces: &Pieces, i: usize) -> f64 {
-    let n = pieces.heading.len();
     // The run before vertex `i` ends with piece `i - 1`, the run after it starts with piece `i`.
-    let before = {
-        let h0 = pieces.heading[i - 1];
-        pieces.heading[..i]
-            .iter()
-            .zip(&pieces.run[..i])
-            .rev()
-            .take_while(|(h, _)| same_heading(**h, h0))
-            .map(|(_, l)| *l)
-            .fold(0.0, |len, l| len + l)
-    };
-    let after = {
-        let h0 = pieces.heading[i];
-        pieces.heading[i..n]
-            .iter()
-            .zip(&pieces.run[i..n])
-            .take_while(|(h, _)| same_heading(**h, h0))
-            .map(|(_, l)| *l)
-            .fold(0.0, |len, l| len + l)
-    };
+    let before = pieces.straight_run((0..i).rev());
+    let after = pieces.straight_run(i..pieces.heading.len());
     before.min(after) / 2.0
 }
 
