@@ -24,9 +24,9 @@ impl Sensor<Arena> for Vision {
         // the draws then go in id order, as in a look at every entity in id order.
         let seen = w.in_sight(me, &mine, &self.0);
         let rng = probe.rng("fof");
-        seen.iter()
-            .filter_map(|s| self.0.draw(s, &mut *rng))
-            .collect()
+        let mut sightings = Vec::with_capacity(seen.len());
+        sightings.extend(seen.iter().filter_map(|s| self.0.draw(s, &mut *rng)));
+        sightings
     }
 }
 

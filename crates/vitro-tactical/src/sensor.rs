@@ -298,8 +298,10 @@ impl FriendFoeVision {
             return None;
         }
         let seen_as = if rng.random::<f64>() < self.misidentification {
-            let others: Vec<Side> = Side::ALL.into_iter().filter(|o| *o != s.side).collect();
-            others[rng.random_range(0..others.len())]
+            // One of the other sides, uniformly (no list made: a look draws many times).
+            let others = || Side::ALL.into_iter().filter(|o| *o != s.side);
+            let k = rng.random_range(0..others().count());
+            others().nth(k).unwrap_or(s.side)
         } else {
             s.side
         };
@@ -370,6 +372,49 @@ mod tests {
                 assert_eq!(within_fov(dx, dy, h, 1.0), exact);
             }
         }
+    }
+
+    #[test]
+    fn a_misidentified_side_is_drawn_as_from_the_list_of_the_others() {
+        use rand::SeedableRng;
+        let v = FriendFoeVision {
+            misidentification: 0.5,
+            ..FriendFoeVision::default()
+        };
+        let (mut fast, mut slow) = (
+            rand_chacha::ChaCha8Rng::seed_from_u64(3),
+            rand_chacha::ChaCha8Rng::seed_from_u64(3),
+        );
+        let mut wrong = 0;
+        for i in 0..3000 {
+            let side = Side::ALL[i % 3];
+            let s = InSight {
+                id: EntityId(7),
+                pos: [1.0, 2.0, 0.0],
+                side,
+                distance: 10.0,
+                p_detect: 0.9,
+                bearing: 0.3,
+            };
+            // The draws as made before: the other sides collected in a list.
+            let want = (slow.random::<f64>() < s.p_detect).then(|| {
+                if slow.random::<f64>() < v.misidentification {
+                    let others: Vec<Side> = Side::ALL.into_iter().filter(|o| *o != side).collect();
+                    others[slow.random_range(0..others.len())]
+                } else {
+                    side
+                }
+            });
+            let got = v.draw(&s, &mut fast).map(|x| x.seen_as);
+            assert_eq!(got, want, "draw {i}");
+            wrong += usize::from(got.is_some_and(|g| g != side));
+        }
+        assert!(wrong > 1000, "{wrong}");
+        assert_eq!(
+            fast.random::<u64>(),
+            slow.random::<u64>(),
+            "same draws used"
+        );
     }
 
     #[test]

@@ -125,14 +125,14 @@ impl Track {
         for l in &mut tr.limit {
             *l = l.min(vmax);
         }
+        // Each piece's heading and horizontal length, worked out once (the same values
+        // as computed where they are used).
+        let pieces = Pieces::of(&tr.pts);
         // Corner speeds at the vertices where the heading changes.
         for i in 1..n.saturating_sub(1) {
-            let (a, b, c) = (tr.pts[i - 1], tr.pts[i], tr.pts[i + 1]);
-            let h0 = libm::atan2(b[1] - a[1], b[0] - a[0]);
-            let h1 = libm::atan2(c[1] - b[1], c[0] - b[0]);
-            let turn = wrap_angle(h1 - h0);
+            let turn = wrap_angle(pieces.heading[i] - pieces.heading[i - 1]);
             if turn.abs() > 1e-6 {
-                let room = turn_room(&tr.pts, i);
+                let room = turn_room(&pieces, i);
                 tr.limit[i] = tr.limit[i].min(ty.corner_speed(turn, room));
             }
         }
@@ -140,7 +140,7 @@ impl Track {
         // Forward pass: v² grows by 2 a ds, a from power, traction, resistances and grade.
         for i in 1..n {
             let ds = tr.s[i] - tr.s[i - 1];
-            let slope = slope(tr.pts[i - 1], tr.pts[i]);
+            let slope = rise_over_run(tr.pts[i - 1], tr.pts[i], pieces.run[i - 1]);
             let a = ty.accel_limit(v[i - 1], slope).max(0.0);
             let reach = libm::sqrt(v[i - 1] * v[i - 1] + 2.0 * a * ds);
             v[i] = reach.min(tr.limit[i]);
@@ -298,8 +298,53 @@ pub fn dist3(a: [f64; 3], b: [f64; 3]) -> f64 {
 
 /// Rise over run from `a` to `b` (0 for a vertical or zero step).
 fn slope(a: [f64; 3], b: [f64; 3]) -> f64 {
-    let run = dist([a[0], a[1]], [b[0], b[1]]);
+    rise_over_run(a, b, dist([a[0], a[1]], [b[0], b[1]]))
+}
+
+/// [`slope`] from `a` to `b` with their horizontal distance `run` known.
+#[inline]
+fn rise_over_run(a: [f64; 3], b: [f64; 3], run: f64) -> f64 {
     if run > 1e-9 { (b[2] - a[2]) / run } else { 0.0 }
+}
+
+/// The pieces of a polyline: piece `k` goes from point `k` to point `k + 1`.
+struct Pieces {
+    /// Heading of each piece, radians from east.
+    heading: Vec<f64>,
+    /// Horizontal length of each piece, metres.
+    run: Vec<f64>,
+}
+
+impl Pieces {
+    /// The horizontal length of the pieces `ks` (in walking order) up to the first whose
+    /// heading is not the first one's.
+    #[inline]
+    fn straight_run(&self, ks: impl Iterator<Item = usize>) -> f64 {
+        let mut len = 0.0;
+        let mut h0 = None;
+        for k in ks {
+            let h = self.heading[k];
+            if !same_heading(h, *h0.get_or_insert(h)) {
+                break;
+            }
+            len += self.run[k];
+        }
+        len
+    }
+
+    fn of(pts: &[[f64; 3]]) -> Self {
+        let (heading, run) = pts
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (w[0], w[1]);
+                (
+                    libm::atan2(b[1] - a[1], b[0] - a[0]),
+                    dist([a[0], a[1]], [b[0], b[1]]),
+                )
+            })
+            .unzip();
+        Pieces { heading, run }
+    }
 }
 
 /// An angle in (-π, π].
@@ -313,38 +358,21 @@ pub fn wrap_angle(a: f64) -> f64 {
     }
 }
 
-/// Room for a fillet at vertex `i`: half the shorter of the two straight runs on either side
-/// (runs of collinear resampled points count as one).
-fn turn_room(pts: &[[f64; 3]], i: usize) -> f64 {
-    let heading = |a: [f64; 3], b: [f64; 3]| libm::atan2(b[1] - a[1], b[0] - a[0]);
-    let run = |dir: i64| {
-        let mut len = 0.0;
-        let mut k = i as i64;
-        let h0 = if dir < 0 {
-            heading(pts[i - 1], pts[i])
-        } else {
-            heading(pts[i], pts[i + 1])
-        };
-        loop {
-            let j = k + dir;
-            if j < 0 || j as usize >= pts.len() {
-                break;
-            }
-            let (a, b) = (pts[k as usize], pts[j as usize]);
-            let h = if dir < 0 {
-                heading(b, a)
-            } else {
-                heading(a, b)
-            };
-            if wrap_angle(h - h0).abs() > 1e-6 {
-                break;
-            }
-            len += dist([a[0], a[1]], [b[0], b[1]]);
-            k = j;
-        }
-        len
-    };
-    run(-1).min(run(1)) / 2.0
+/// Room for a fillet at vertex `i` of the polyline of `pieces`: half the shorter of the two
+/// straight runs on either side (runs of collinear resampled points count as one).
+fn turn_room(pieces: &Pieces, i: usize) -> f64 {
+    // The run before vertex `i` ends with piece `i - 1`, the run after it starts with piece `i`.
+    let before = pieces.straight_run((0..i).rev());
+    let after = pieces.straight_run(i..pieces.heading.len());
+    before.min(after) / 2.0
+}
+
+/// True if headings `h` and `h0` are within 1e-6 rad (NaN counts as the same: a run stops
+/// only at a measured turn).
+#[inline]
+fn same_heading(h: f64, h0: f64) -> bool {
+    let d = wrap_angle(h - h0).abs();
+    d <= 1e-6 || d.is_nan()
 }
 
 /// Cumulative times of a profile: constant acceleration on each piece, so a piece takes
@@ -379,6 +407,90 @@ mod tests {
         assert!((t[1] - 2.0).abs() < 1e-12);
     }
 
+    /// The room and corner turn as computed before [`Pieces`]: two `atan2` per step, at
+    /// every vertex and along every run.
+    fn reference(pts: &[[f64; 3]], i: usize) -> (f64, f64) {
+        let heading = |a: [f64; 3], b: [f64; 3]| libm::atan2(b[1] - a[1], b[0] - a[0]);
+        let run = |dir: i64| {
+            let mut len = 0.0;
+            let mut k = i as i64;
+            let h0 = if dir < 0 {
+                heading(pts[i - 1], pts[i])
+            } else {
+                heading(pts[i], pts[i + 1])
+            };
+            loop {
+                let j = k + dir;
+                if j < 0 || j as usize >= pts.len() {
+                    break;
+                }
+                let (a, b) = (pts[k as usize], pts[j as usize]);
+                let h = if dir < 0 {
+                    heading(b, a)
+                } else {
+                    heading(a, b)
+                };
+                if wrap_angle(h - h0).abs() > 1e-6 {
+                    break;
+                }
+                len += dist([a[0], a[1]], [b[0], b[1]]);
+                k = j;
+            }
+            len
+        };
+        let turn = wrap_angle(heading(pts[i], pts[i + 1]) - heading(pts[i - 1], pts[i]));
+        (turn, run(-1).min(run(1)) / 2.0)
+    }
+
+    #[test]
+    fn pieces_give_the_same_bits_as_the_step_by_step_computation() {
+        // A resampled polyline: straight runs (collinear points off by rounding), corners
+        // both ways, a curve of short pieces, a U-turn, a zero-length piece, grades.
+        let corners = [
+            [0.0, 0.0],
+            [37.3, 0.0],
+            [37.3, 12.9],
+            [20.1, 30.7],
+            [22.0, 31.0],
+            [23.5, 31.8],
+            [24.6, 33.1],
+            [25.0, 34.9],
+            [25.0, 34.9],
+            [-3.3, 60.2],
+            [10.0, 60.2],
+            [-7.5, 60.2],
+        ];
+        let mut pts = vec![[0.0, 0.0, 0.0]];
+        for w in corners.windows(2) {
+            let (p0, p1) = (w[0], w[1]);
+            let n = (dist(p0, p1) / TRACK_STEP).ceil().max(1.0) as usize;
+            for k in 1..=n {
+                let t = k as f64 / n as f64;
+                let (x, y) = (p0[0] + t * (p1[0] - p0[0]), p0[1] + t * (p1[1] - p0[1]));
+                pts.push([x, y, 0.03 * x - 0.01 * y]);
+            }
+        }
+        let pieces = Pieces::of(&pts);
+        let mut turns = 0;
+        for i in 1..pts.len() - 1 {
+            let turn = wrap_angle(pieces.heading[i] - pieces.heading[i - 1]);
+            let (want_turn, want_room) = reference(&pts, i);
+            assert_eq!(turn.to_bits(), want_turn.to_bits(), "turn at {i}");
+            assert_eq!(
+                turn_room(&pieces, i).to_bits(),
+                want_room.to_bits(),
+                "room at {i}"
+            );
+            turns += usize::from(turn.abs() > 1e-6);
+            let (a, b) = (pts[i - 1], pts[i]);
+            assert_eq!(
+                rise_over_run(a, b, pieces.run[i - 1]).to_bits(),
+                slope(a, b).to_bits()
+            );
+        }
+        assert!(turns >= 8, "the polyline turns: {turns}");
+    }
+
     #[test]
     fn room_spans_collinear_runs() {
         let pts: Vec<[f64; 3]> = (0..=10)
@@ -386,6 +498,6 @@ mod tests {
             .chain((1..=4).map(|j| [10.0, j as f64, 0.0]))
             .collect();
         // A right angle at x = 10: 10 m before, 4 m after: room 2 m.
-        assert!((turn_room(&pts, 10) - 2.0).abs() < 1e-12);
+        assert!((turn_room(&Pieces::of(&pts), 10) - 2.0).abs() < 1e-12);
     }
 }
