@@ -1,6 +1,6 @@
 //! Calibration of the abstract levels on a tiny trip set: the same file whatever the thread
 //! count, and the calibrated discrete level closer to the physical one than the plain one
-//! (trips), and to the directed one (squad walks in contact).
+//! (trips), and to the directed one (squad walks in contact, with and without a VIP).
 
 mod common;
 
@@ -66,6 +66,15 @@ fn the_calibrated_discrete_level_predicts_the_physical_one_better() {
     assert!(
         r.bias_pct_after.abs() < r.bias_pct_before.abs() / 2.0,
         "{r:?}"
+    );
+    // The same walks escorting a VIP (the mission's walk back), which the fit did not see:
+    // the stretch holds for them too.
+    let e = &sq.escorted;
+    assert!(e.n >= 3, "{sq:?}");
+    assert!(e.bias_pct_before < -10.0, "{e:?}");
+    assert!(
+        e.bias_pct_after.abs() < e.bias_pct_before.abs() / 2.0,
+        "{e:?}"
     );
     // Fresh trips the fit did not see.
     let fresh = sample(&s, &tiny(77, 0, 3));

@@ -208,6 +208,10 @@ pub struct SquadFit {
     pub calm: Residuals,
     /// The same, walks in contact.
     pub contact: Residuals,
+    /// The same, the walks in contact with a VIP in the squad's last slot (held out: the fit
+    /// does not use them; empty in a file made before them).
+    #[serde(default)]
+    pub escorted: Residuals,
 }
 
 /// How far an abstract level's trip times are from the concrete level's.
@@ -380,7 +384,8 @@ impl Calibration {
              #   T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m\n\
              #       + delta * start_turn_rad\n\
              # [[squad]]: the stretch of a squad leader's discrete hops at its normal and\n\
-             # slow pace, fitted on squad walks at the directed level.\n\
+             # slow pace, fitted on squad walks at the directed level (escorted: the same\n\
+             # walks in contact with a VIP in the last slot, held out).\n\
              # A scenario uses it with `[fidelity] calibration = \"FILE\"` (same map, terrain\n\
              # and type set only). Residuals: % of the concrete time (bias signed, negative =\n\
              # the abstract level is optimistic); held_out: trips not used by the fit.\n\n{body}",
