@@ -14,6 +14,7 @@ use vitro_site::map::{MapConfig, TownMap};
 use vitro_site::site::{Site, SiteConfig};
 use vitro_site::terrain::Terrain;
 use vitro_tactical::calibrate::fit::{Stamp, calibrate as fit_all, runs_needed};
+use vitro_tactical::calibrate::flights::{self, FlightSampling, calibrate_air, sample_flights};
 use vitro_tactical::calibrate::trips::{Sampling, sample};
 use vitro_tactical::calibrate::{Calibration, site_fingerprint, types_fingerprint};
 use vitro_tactical::check::Setup;
@@ -41,6 +42,13 @@ pub(crate) struct CalibrateArgs {
     /// Held-out trips per entity type (evaluated, not fitted).
     #[arg(long, default_value_t = 8)]
     held_out: usize,
+    /// Fitted flights per aircraft type (the lattice against the kinematic and dynamic
+    /// levels; 0: no aircraft calibration).
+    #[arg(long, default_value_t = 12)]
+    flights: usize,
+    /// Held-out flights per aircraft type.
+    #[arg(long, default_value_t = 6)]
+    held_out_flights: usize,
     /// Longest vehicle trip, metres (walks: a third of it).
     #[arg(long, default_value_t = 1600.0)]
     max_m: f64,
@@ -140,11 +148,27 @@ pub(crate) fn calibrate(args: &CalibrateArgs) -> Result<(), Failure> {
         types_fingerprint: types_fingerprint(&setup.types),
         seed: args.seed,
     };
+    // The aircraft have one abstract level, the lattice (discrete).
+    let air = if to.contains(&Level::Discrete) && args.flights > 0 {
+        let sampling = FlightSampling {
+            fit_per_type: args.flights,
+            held_out_per_type: args.held_out_flights,
+            seed: args.seed,
+            ..FlightSampling::default()
+        };
+        sample_flights(&setup, &sampling)
+    } else {
+        Vec::new()
+    };
     let bar = progress_bar();
-    bar.set_length(runs_needed(&trips, &to) as u64);
+    bar.set_length((runs_needed(&trips, &to) + flights::runs_needed(&air)) as u64);
     let tick = || bar.inc(1);
     let mut cal = fit_all(&setup, &trips, &to, &stamp, args.jobs, &tick)
         .map_err(|e| Failure::Runtime(e.into()))?;
+    if !air.is_empty() {
+        calibrate_air(&setup, &air, &mut cal, args.jobs, &tick)
+            .map_err(|e| Failure::Runtime(e.into()))?;
+    }
     bar.finish_and_clear();
     cal.wall_s = (t0.elapsed().as_secs_f64() * 10.0).round() / 10.0;
     let text = cal.to_toml().map_err(|e| Failure::Runtime(anyhow!(e)))?;
@@ -152,15 +176,24 @@ pub(crate) fn calibrate(args: &CalibrateArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::Runtime(anyhow!("cannot write {}: {e}", args.out.display())))?;
     print!("{}", summary(&cal));
     println!(
-        "{} trips, {:.1} s wall on {} threads; written to {}",
+        "{} trips, {} flights, {:.1} s wall on {} threads; written to {}",
         cal.trips.len(),
+        cal.flights.len(),
         cal.wall_s,
         args.jobs,
         args.out.display()
     );
     if let Some(stem) = &args.plot {
-        let files =
+        let mut files =
             plot_residuals(&scatter(&cal), 5.0, stem).map_err(|e| Failure::Runtime(e.into()))?;
+        if !cal.flights.is_empty() {
+            let mut air = stem.as_os_str().to_owned();
+            air.push("_air");
+            files.extend(
+                plot_residuals(&air_scatter(&cal), 5.0, Path::new(&air))
+                    .map_err(|e| Failure::Runtime(e.into()))?,
+            );
+        }
         for f in files {
             println!("plot: {}", f.display());
         }
@@ -179,6 +212,36 @@ pub(crate) fn summary(cal: &Calibration) -> String {
             "| {} | {} | {:.3} | {:.1} | {:.2} | {:.3} | {:.2} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}, max {:.1}), n={} |\n",
             f.entity,
             f.level,
+            f.alpha,
+            f.beta,
+            f.kappa,
+            f.gamma,
+            f.delta,
+            r.bias_pct_before,
+            r.bias_pct_after,
+            r.mape_pct_before,
+            r.mape_pct_after,
+            r.n,
+            h.bias_pct_before,
+            h.bias_pct_after,
+            h.mape_pct_before,
+            h.mape_pct_after,
+            h.max_pct_after,
+            h.n
+        ));
+    }
+    if !cal.aircraft.is_empty() {
+        s.push_str(
+            "\n| aircraft | level vs concrete | alpha | beta s | kappa s/rad | gamma s/m | delta s/rad | fit: bias % before -> after (MAPE) | held out: bias % before -> after (MAPE, max) |\n|---|---|---|---|---|---|---|---|---|\n",
+        );
+    }
+    for f in &cal.aircraft {
+        let (r, h) = (&f.fit_residuals, &f.held_out);
+        s.push_str(&format!(
+            "| {} | {} vs {} | {:.3} | {:.1} | {:.2} | {:.3} | {:.2} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}, max {:.1}), n={} |\n",
+            f.entity,
+            f.level,
+            f.concrete,
             f.alpha,
             f.beta,
             f.kappa,
@@ -259,6 +322,42 @@ fn scatter(cal: &Calibration) -> Scatter {
         ),
         x_desc: "concrete trip time, s".into(),
         y_desc: "(abstract - concrete) / concrete, %".into(),
+        groups,
+    }
+}
+
+/// The lattice's relative errors against the continuous levels' flight times, per aircraft
+/// type, before and after calibration (held-out flights marked apart).
+fn air_scatter(cal: &Calibration) -> Scatter {
+    let mut groups: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    let mut types: Vec<&str> = cal.flights.iter().map(|f| f.entity.as_str()).collect();
+    types.dedup();
+    for entity in types {
+        for (when, after) in [("uncalibrated", false), ("calibrated", true)] {
+            let pts: Vec<(f64, f64)> = cal
+                .flights
+                .iter()
+                .filter(|f| f.entity == entity)
+                .map(|f| {
+                    let y = if after { f.after_s } else { f.before_s };
+                    let c = f.concrete_s.max(1e-9);
+                    (f.concrete_s, 100.0 * (y - c) / c)
+                })
+                .collect();
+            if !pts.is_empty() {
+                groups.push((format!("{entity}, {when}"), pts));
+            }
+        }
+    }
+    Scatter {
+        title: "Lattice flight time error against the continuous level".into(),
+        note: format!(
+            "{} sample flights (procerus vs kinematic, helicopters vs rotor dynamics), fitted and held out; map {}; negative = optimistic",
+            cal.flights.len(),
+            cal.map
+        ),
+        x_desc: "concrete flight time, s".into(),
+        y_desc: "(lattice - concrete) / concrete, %".into(),
         groups,
     }
 }

@@ -8,6 +8,7 @@ use serde::Serialize;
 use std::path::PathBuf;
 use std::sync::Arc;
 use vitro_tactical::calibrate::evaluate::evaluate;
+use vitro_tactical::calibrate::flights::{FlightSampling, evaluate_air, sample_flights};
 use vitro_tactical::calibrate::trips::{Sampling, sample};
 use vitro_tactical::calibrate::{Calibration, site_fingerprint, types_fingerprint};
 use vitro_tactical::check::{CheckError, Registry, Row, Setup};
@@ -38,6 +39,10 @@ pub(crate) struct LevelsArgs {
     /// Trips per entity type for the prediction property.
     #[arg(long, default_value_t = 4)]
     trips: usize,
+    /// Flights per aircraft type for the prediction property (the lattice against the
+    /// kinematic and dynamic levels, where the calibration has aircraft fits).
+    #[arg(long, default_value_t = 3)]
+    flights: usize,
     /// Seed of those trips (pick one the calibration did not use).
     #[arg(long, default_value_t = 1001)]
     trip_seed: u64,
@@ -135,7 +140,7 @@ fn predictions(
         },
     );
     let to = [Level::Discrete, Level::Interpolated];
-    let out = evaluate(
+    let mut out = evaluate(
         setup,
         &cal,
         &trips,
@@ -145,10 +150,30 @@ fn predictions(
         &|| {},
     )
     .map_err(|e| Failure::Runtime(e.into()))?;
+    if !cal.aircraft.is_empty() && args.flights > 0 {
+        let flights = sample_flights(
+            setup,
+            &FlightSampling {
+                fit_per_type: 0,
+                held_out_per_type: args.flights,
+                seed: args.trip_seed,
+                ..FlightSampling::default()
+            },
+        );
+        out.extend(
+            evaluate_air(setup, &cal, &flights, args.tolerance_pct, args.jobs, &|| {})
+                .map_err(|e| Failure::Runtime(e.into()))?,
+        );
+    }
     Ok(out
         .into_iter()
         .map(|p| {
             let r = &p.residuals;
+            let what = if matches!(p.concrete, Level::Kinematic | Level::Dynamic) {
+                "flights"
+            } else {
+                "trips"
+            };
             Row {
                 entity: p.entity,
                 level: p.level,
@@ -156,7 +181,7 @@ fn predictions(
                 pass: p.pass,
                 value: r.mape_pct_after,
                 limit: format!(
-                    "mean |error| <= {:.1} % over {} trips (uncalibrated {:.1} %, bias {:+.1} -> {:+.1} %)",
+                    "mean |error| <= {:.1} % over {} {what} (uncalibrated {:.1} %, bias {:+.1} -> {:+.1} %)",
                     p.tolerance_pct, r.n, r.mape_pct_before, r.bias_pct_before, r.bias_pct_after
                 ),
             }

@@ -10,22 +10,21 @@
 //!
 //! A maneuver takes its length at the commanded speed (a climb no faster than the type's
 //! climb rate for a helicopter), so a lattice trajectory never jumps further than its speed
-//! allows.
+//! allows. Under a calibration with a fit for the type ([`crate::calibrate::air`]), a
+//! waypoint command is flown at an effective speed, the commanded one divided by the
+//! predicted stretch of its route.
 
+use super::plan::{ctol_move, sign};
 use super::{FlyError, engage, reached, validate};
 use crate::arena::{Arena, Ev};
-use crate::entity::air::{AirKind, DIRS, FlightCommand, LatticeBody, Maneuver, dir_of};
+use crate::entity::air::{AirKind, DIRS, FlightCommand, Maneuver, dir_of};
 use crate::entity::route::dist3;
-use std::cmp::Ordering;
-use std::collections::{BTreeMap, BinaryHeap};
 use vitro::entity::EntityId;
 use vitro::env::{Actuator, Effects};
 use vitro::event::Target;
 use vitro::time::SimDuration;
 
-/// Most A* expansions for one waypoint (a bound that a lattice trip across a town never
-/// reaches).
-const MAX_EXPANSIONS: usize = 500_000;
+pub use super::plan::{maneuvers, plan_ctol};
 
 /// The discrete-level autopilot (both airframes).
 #[derive(Copy, Clone, Debug, Default)]
@@ -44,6 +43,12 @@ impl Actuator<Arena, Ev> for Autopilot {
         validate(&cmd)?;
         let b = w.lattice.get(me).ok_or(FlyError::NoBody(me))?;
         let moving = b.moving_to.is_some();
+        // A calibration flies the command at its effective speed (`calibrate::air`).
+        let cmd = w
+            .calibration
+            .as_ref()
+            .and_then(|c| c.air_command(&w.types, b, &cmd))
+            .unwrap_or(cmd);
         engage(w, me, cmd);
         if !moving {
             start_next(w, me, fx);
@@ -72,10 +77,6 @@ pub(crate) fn arrive(w: &mut Arena, who: EntityId, fx: &mut Effects<'_, Ev>) {
     }
 }
 
-fn sign(x: i32) -> i32 {
-    x.signum()
-}
-
 /// Decides and schedules the next maneuver (or a hover).
 fn start_next(w: &mut Arena, me: EntityId, fx: &mut Effects<'_, Ev>) {
     let (Some(b), Some(mut pilot)) = (w.lattice.get(me).cloned(), w.pilots.get(me).cloned()) else {
@@ -92,6 +93,18 @@ fn start_next(w: &mut Arena, me: EntityId, fx: &mut Effects<'_, Ev>) {
             let v = command_speed(&pilot.cmd).unwrap_or(ty.cruise_speed);
             (false, v.clamp(0.1, ty.max_speed), ty.max_climb)
         }
+    };
+    // A calibrated command's speed is the effective speed, already within the envelope
+    // before the calibration's stretch: flown as it stands.
+    let speed = match command_speed(&pilot.cmd) {
+        Some(v)
+            if w.calibration
+                .as_ref()
+                .is_some_and(|c| c.air_fit(b.kind).is_some()) =>
+        {
+            v
+        }
+        _ => speed,
     };
     let l = b.lattice;
     // Waypoints reached now (in the cell, at the layer for a helicopter).
@@ -194,125 +207,5 @@ fn start_next(w: &mut Arena, me: EntityId, fx: &mut Effects<'_, Ev>) {
 fn command_speed(cmd: &FlightCommand) -> Option<f64> {
     match cmd {
         FlightCommand::Straight { speed, .. } | FlightCommand::Waypoints { speed, .. } => *speed,
-    }
-}
-
-/// The cell and heading after a fixed-wing maneuver.
-fn ctol_move(b: &LatticeBody, turn: i32, climb: i32) -> ([i32; 3], u8) {
-    let dir = (i32::from(b.dir) + turn).rem_euclid(8) as u8;
-    let s = DIRS[dir as usize];
-    ([b.cell[0] + s[0], b.cell[1] + s[1], b.cell[2] + climb], dir)
-}
-
-#[derive(PartialEq)]
-struct Open(f64, [i32; 3]);
-impl Eq for Open {}
-impl Ord for Open {
-    fn cmp(&self, o: &Self) -> Ordering {
-        // Min-heap on f, ties by state: deterministic.
-        o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
-    }
-}
-impl PartialOrd for Open {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
-
-fn octile(a: [i32; 2], b: [i32; 2]) -> f64 {
-    let (dx, dy) = ((a[0] - b[0]).abs(), (a[1] - b[1]).abs());
-    let (lo, hi) = (dx.min(dy), dx.max(dy));
-    f64::from(hi - lo) + std::f64::consts::SQRT_2 * f64::from(lo)
-}
-
-/// The shortest fixed-wing maneuver sequence (in cells flown) from `start` heading `dir` to
-/// the cell `goal`, any final heading; returned last maneuver first. Empty if none is found
-/// within the search window.
-pub fn plan_ctol(start: [i32; 2], dir: u8, goal: [i32; 2]) -> Vec<Maneuver> {
-    if start == goal {
-        return Vec::new();
-    }
-    let margin = 8;
-    let lo = [
-        start[0].min(goal[0]) - margin,
-        start[1].min(goal[1]) - margin,
-    ];
-    let hi = [
-        start[0].max(goal[0]) + margin,
-        start[1].max(goal[1]) + margin,
-    ];
-    let s0 = [start[0], start[1], i32::from(dir)];
-    let mut g: BTreeMap<[i32; 3], f64> = BTreeMap::new();
-    let mut prev: BTreeMap<[i32; 3], ([i32; 3], i8)> = BTreeMap::new();
-    let mut open = BinaryHeap::new();
-    g.insert(s0, 0.0);
-    open.push(Open(octile(start, goal), s0));
-    let mut expansions = 0;
-    while let Some(Open(_, s)) = open.pop() {
-        if [s[0], s[1]] == goal {
-            let mut out = Vec::new();
-            let mut cur = s;
-            while let Some(&(p, turn)) = prev.get(&cur) {
-                out.push(Maneuver { turn, climb: 0 });
-                cur = p;
-            }
-            return out;
-        }
-        expansions += 1;
-        if expansions > MAX_EXPANSIONS {
-            break;
-        }
-        let gs = g.get(&s).copied().unwrap_or(f64::INFINITY);
-        for turn in [-1i8, 0, 1] {
-            let nd = (s[2] + i32::from(turn)).rem_euclid(8);
-            let step = DIRS[nd as usize];
-            let n = [s[0] + step[0], s[1] + step[1], nd];
-            if n[0] < lo[0] || n[1] < lo[1] || n[0] > hi[0] || n[1] > hi[1] {
-                continue;
-            }
-            let cost = if step[0] != 0 && step[1] != 0 {
-                std::f64::consts::SQRT_2
-            } else {
-                1.0
-            };
-            let ng = gs + cost;
-            if ng < g.get(&n).copied().unwrap_or(f64::INFINITY) {
-                g.insert(n, ng);
-                prev.insert(n, (s, turn));
-                open.push(Open(ng + octile([n[0], n[1]], goal), n));
-            }
-        }
-    }
-    Vec::new()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn fly(start: [i32; 2], dir: u8, plan: &[Maneuver]) -> ([i32; 2], u8) {
-        let (mut c, mut d) = (start, dir);
-        for m in plan.iter().rev() {
-            d = (i32::from(d) + i32::from(m.turn)).rem_euclid(8) as u8;
-            let s = DIRS[d as usize];
-            c = [c[0] + s[0], c[1] + s[1]];
-        }
-        (c, d)
-    }
-
-    #[test]
-    fn a_star_reaches_a_goal_behind_the_aircraft() {
-        // Heading east, the goal two cells west: it must turn around.
-        let plan = plan_ctol([0, 0], 0, [-2, 0]);
-        assert!(!plan.is_empty());
-        assert_eq!(fly([0, 0], 0, &plan).0, [-2, 0]);
-        // Straight ahead: straight maneuvers only.
-        let plan = plan_ctol([0, 0], 0, [5, 0]);
-        assert_eq!(plan.len(), 5);
-        assert!(plan.iter().all(|m| m.turn == 0));
-        // A diagonal goal.
-        let plan = plan_ctol([3, 3], 2, [10, -4]);
-        assert_eq!(fly([3, 3], 2, &plan).0, [10, -4]);
-        assert!(plan_ctol([1, 1], 5, [1, 1]).is_empty());
     }
 }

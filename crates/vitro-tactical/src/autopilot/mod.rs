@@ -16,6 +16,7 @@
 pub mod ctol;
 mod engage;
 pub mod lattice;
+pub mod plan;
 pub mod vtol;
 
 use crate::arena::{Arena, Clock, Ev};

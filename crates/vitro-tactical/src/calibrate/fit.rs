@@ -189,6 +189,8 @@ pub fn calibrate(
         fits,
         squads: Vec::new(),
         trips: Vec::new(),
+        aircraft: Vec::new(),
+        flights: Vec::new(),
     };
     // Stage 3: every trip again at the calibrated abstract levels.
     let jobs: Vec<Job> = jobs

@@ -24,13 +24,21 @@
 //! uncalibrated time (`T_physical × T_profile / T_interpolated`) so that its stretched run
 //! lands on the concrete time.
 //!
+//! The aircraft's lattice is calibrated against their continuous levels by a model of the
+//! same shape ([`air`]), fitted on sample flights ([`flights`]).
+//!
 //! A calibration is made for one map and terrain ([`site_fingerprint`]) and one type set
 //! ([`types_fingerprint`]); a scenario that names a calibration made for another is refused.
 
+pub mod air;
 pub mod evaluate;
 pub mod fit;
+pub mod flights;
+mod residuals;
 pub mod squad;
 pub mod trips;
+
+pub use residuals::Residuals;
 
 use crate::entity::Level;
 use crate::entity::discrete::NodeKind;
@@ -214,61 +222,6 @@ pub struct SquadFit {
     pub escorted: Residuals,
 }
 
-/// How far an abstract level's trip times are from the concrete level's.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Residuals {
-    /// Trips.
-    pub n: usize,
-    /// Mean relative error without calibration, % (signed: negative = optimistic).
-    pub bias_pct_before: f64,
-    /// Mean absolute relative error without calibration, %.
-    pub mape_pct_before: f64,
-    /// Root mean square error without calibration, seconds.
-    pub rmse_s_before: f64,
-    /// Mean relative error with calibration, % (signed).
-    pub bias_pct_after: f64,
-    /// Mean absolute relative error with calibration, %.
-    pub mape_pct_after: f64,
-    /// Root mean square error with calibration, seconds.
-    pub rmse_s_after: f64,
-    /// Largest absolute relative error with calibration, %.
-    pub max_pct_after: f64,
-}
-
-impl Residuals {
-    /// The residuals of `before` and `after` against `concrete` (paired, seconds).
-    pub fn of(concrete: &[f64], before: &[f64], after: &[f64]) -> Self {
-        let n = concrete.len().min(before.len()).min(after.len());
-        if n == 0 {
-            return Residuals::default();
-        }
-        let stats = |pred: &[f64]| {
-            let (mut bias, mut abs, mut sq, mut max) = (0.0, 0.0, 0.0, 0.0f64);
-            for (c, p) in concrete.iter().zip(pred) {
-                let rel = 100.0 * (p - c) / c.max(1e-9);
-                bias += rel;
-                abs += rel.abs();
-                max = max.max(rel.abs());
-                sq += (p - c) * (p - c);
-            }
-            let n = n as f64;
-            (bias / n, abs / n, libm::sqrt(sq / n), max)
-        };
-        let b = stats(before);
-        let a = stats(after);
-        Residuals {
-            n,
-            bias_pct_before: b.0,
-            mape_pct_before: b.1,
-            rmse_s_before: b.2,
-            bias_pct_after: a.0,
-            mape_pct_after: a.1,
-            rmse_s_after: a.2,
-            max_pct_after: a.3,
-        }
-    }
-}
-
 /// One sample trip and its times at each level.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TripRecord {
@@ -327,6 +280,12 @@ pub struct Calibration {
     /// The sample trips.
     #[serde(rename = "trip", default)]
     pub trips: Vec<TripRecord>,
+    /// The aircraft's lattice fits ([`air`]); none in a file made before them.
+    #[serde(rename = "aircraft", default)]
+    pub aircraft: Vec<air::AirFit>,
+    /// The sample flights of the aircraft fits.
+    #[serde(rename = "flight", default)]
+    pub flights: Vec<air::FlightRecord>,
 }
 
 /// The calibration's entity key of a node-level body kind.
@@ -361,6 +320,9 @@ impl Calibration {
                 return Err(format!("squad fit at {}: a stretch is not finite", f.level));
             }
         }
+        for f in &c.aircraft {
+            f.check()?;
+        }
         for f in &c.fits {
             let ok = [f.alpha, f.beta, f.kappa, f.gamma, f.delta]
                 .iter()
@@ -383,6 +345,9 @@ impl Calibration {
              # Model, per entity type and abstract level:\n\
              #   T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m\n\
              #       + delta * start_turn_rad\n\
+             # [[aircraft]]: the lattice's flight times fitted to the kinematic (fixed-wing)\n\
+             # and dynamic (helicopter) levels: T = alpha * T_profile + beta * rest\n\
+             #   + kappa * turn_rad + gamma * vertical_m + delta * start_turn_rad.\n\
              # [[squad]]: the stretch of a squad leader's discrete hops at its normal and\n\
              # slow pace, fitted on squad walks at the directed level (escorted: the same\n\
              # walks in contact with a VIP in the last slot, held out).\n\

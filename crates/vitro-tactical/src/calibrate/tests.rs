@@ -37,6 +37,8 @@ fn sample() -> Calibration {
             escorted: Residuals::default(),
         }],
         trips: vec![],
+        aircraft: vec![],
+        flights: vec![],
     }
 }
 
