@@ -262,13 +262,13 @@ pub(crate) fn summary(cal: &Calibration) -> String {
     }
     if !cal.squads.is_empty() {
         s.push_str(
-            "\n| squad pace | concrete | normal stretch | slow stretch | calm walks: bias % before -> after (MAPE) | walks in contact: bias % before -> after (MAPE) |\n|---|---|---|---|---|---|\n",
+            "\n| squad pace | concrete | normal stretch | slow stretch | calm walks: bias % before -> after (MAPE) | walks in contact: bias % before -> after (MAPE) | escorting a VIP, in contact (held out) |\n|---|---|---|---|---|---|---|\n",
         );
     }
     for f in &cal.squads {
-        let (c, k) = (&f.calm, &f.contact);
+        let (c, k, e) = (&f.calm, &f.contact, &f.escorted);
         s.push_str(&format!(
-            "| {} | {} | {:.3} | {:.3} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} |\n",
+            "| {} | {} | {:.3} | {:.3} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} |\n",
             f.level,
             f.concrete,
             f.normal,
@@ -282,7 +282,12 @@ pub(crate) fn summary(cal: &Calibration) -> String {
             k.bias_pct_after,
             k.mape_pct_before,
             k.mape_pct_after,
-            k.n
+            k.n,
+            e.bias_pct_before,
+            e.bias_pct_after,
+            e.mape_pct_before,
+            e.mape_pct_after,
+            e.n
         ));
     }
     s

@@ -216,6 +216,10 @@ pub struct SquadFit {
     pub calm: Residuals,
     /// The same, walks in contact.
     pub contact: Residuals,
+    /// The same, the walks in contact with a VIP in the squad's last slot (held out: the fit
+    /// does not use them; empty in a file made before them).
+    #[serde(default)]
+    pub escorted: Residuals,
 }
 
 /// One sample trip and its times at each level.
@@ -345,7 +349,8 @@ impl Calibration {
              # and dynamic (helicopter) levels: T = alpha * T_profile + beta * rest\n\
              #   + kappa * turn_rad + gamma * vertical_m + delta * start_turn_rad.\n\
              # [[squad]]: the stretch of a squad leader's discrete hops at its normal and\n\
-             # slow pace, fitted on squad walks at the directed level.\n\
+             # slow pace, fitted on squad walks at the directed level (escorted: the same\n\
+             # walks in contact with a VIP in the last slot, held out).\n\
              # A scenario uses it with `[fidelity] calibration = \"FILE\"` (same map, terrain\n\
              # and type set only). Residuals: % of the concrete time (bias signed, negative =\n\
              # the abstract level is optimistic); held_out: trips not used by the fit.\n\n{body}",

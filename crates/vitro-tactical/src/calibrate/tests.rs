@@ -34,6 +34,7 @@ fn sample() -> Calibration {
             walks: 4,
             calm: Residuals::default(),
             contact: Residuals::default(),
+            escorted: Residuals::default(),
         }],
         trips: vec![],
         aircraft: vec![],
