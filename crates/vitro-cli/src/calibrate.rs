@@ -13,6 +13,7 @@ use vitro_batch::plot::{Scatter, plot_residuals};
 use vitro_site::map::{MapConfig, TownMap};
 use vitro_site::site::{Site, SiteConfig};
 use vitro_site::terrain::Terrain;
+use vitro_tactical::calibrate::Residuals;
 use vitro_tactical::calibrate::fit::{Stamp, calibrate as fit_all, runs_needed};
 use vitro_tactical::calibrate::flights::{self, FlightSampling, calibrate_air, sample_flights};
 use vitro_tactical::calibrate::trips::{Sampling, sample};
@@ -201,33 +202,43 @@ pub(crate) fn calibrate(args: &CalibrateArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// One fit's table row: its name, level, the five parameters (alpha, beta, kappa, gamma,
+/// delta) and its residuals on the fitted and the held-out trips.
+fn fit_row(name: &str, level: &str, p: [f64; 5], r: &Residuals, h: &Residuals) -> String {
+    format!(
+        "| {name} | {level} | {:.3} | {:.1} | {:.2} | {:.3} | {:.2} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}, max {:.1}), n={} |\n",
+        p[0],
+        p[1],
+        p[2],
+        p[3],
+        p[4],
+        r.bias_pct_before,
+        r.bias_pct_after,
+        r.mape_pct_before,
+        r.mape_pct_after,
+        r.n,
+        h.bias_pct_before,
+        h.bias_pct_after,
+        h.mape_pct_before,
+        h.mape_pct_after,
+        h.max_pct_after,
+        h.n
+    )
+}
+
 /// The fits and their residuals as a Markdown table.
 pub(crate) fn summary(cal: &Calibration) -> String {
     let mut s = String::from(
         "| entity | level | alpha | beta s | kappa s/rad | gamma s/m | delta s/rad | fit: bias % before -> after (MAPE) | held out: bias % before -> after (MAPE, max) |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     for f in &cal.fits {
-        let (r, h) = (&f.fit_residuals, &f.held_out);
-        s.push_str(&format!(
-            "| {} | {} | {:.3} | {:.1} | {:.2} | {:.3} | {:.2} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}, max {:.1}), n={} |\n",
-            f.entity,
-            f.level,
-            f.alpha,
-            f.beta,
-            f.kappa,
-            f.gamma,
-            f.delta,
-            r.bias_pct_before,
-            r.bias_pct_after,
-            r.mape_pct_before,
-            r.mape_pct_after,
-            r.n,
-            h.bias_pct_before,
-            h.bias_pct_after,
-            h.mape_pct_before,
-            h.mape_pct_after,
-            h.max_pct_after,
-            h.n
+        let p = [f.alpha, f.beta, f.kappa, f.gamma, f.delta];
+        s.push_str(&fit_row(
+            &f.entity,
+            &f.level,
+            p,
+            &f.fit_residuals,
+            &f.held_out,
         ));
     }
     if !cal.aircraft.is_empty() {
@@ -236,28 +247,14 @@ pub(crate) fn summary(cal: &Calibration) -> String {
         );
     }
     for f in &cal.aircraft {
-        let (r, h) = (&f.fit_residuals, &f.held_out);
-        s.push_str(&format!(
-            "| {} | {} vs {} | {:.3} | {:.1} | {:.2} | {:.3} | {:.2} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}, max {:.1}), n={} |\n",
-            f.entity,
-            f.level,
-            f.concrete,
-            f.alpha,
-            f.beta,
-            f.kappa,
-            f.gamma,
-            f.delta,
-            r.bias_pct_before,
-            r.bias_pct_after,
-            r.mape_pct_before,
-            r.mape_pct_after,
-            r.n,
-            h.bias_pct_before,
-            h.bias_pct_after,
-            h.mape_pct_before,
-            h.mape_pct_after,
-            h.max_pct_after,
-            h.n
+        let p = [f.alpha, f.beta, f.kappa, f.gamma, f.delta];
+        let level = format!("{} vs {}", f.level, f.concrete);
+        s.push_str(&fit_row(
+            &f.entity,
+            &level,
+            p,
+            &f.fit_residuals,
+            &f.held_out,
         ));
     }
     if !cal.squads.is_empty() {

@@ -14,10 +14,10 @@
 //! waypoint command is flown at an effective speed, the commanded one divided by the
 //! predicted stretch of its route.
 
-use super::plan::{ctol_move, sign};
+use super::plan::{ctol_move, sign, waypoint_step};
 use super::{FlyError, engage, reached, validate};
 use crate::arena::{Arena, Ev};
-use crate::entity::air::{AirKind, DIRS, FlightCommand, Maneuver, dir_of};
+use crate::entity::air::{AirKind, DIRS, FlightCommand, dir_of};
 use crate::entity::route::dist3;
 use vitro::entity::EntityId;
 use vitro::env::{Actuator, Effects};
@@ -138,27 +138,7 @@ fn start_next(w: &mut Arena, me: EntityId, fx: &mut Effects<'_, Ev>) {
     let (to, dir) = match &pilot.cmd {
         FlightCommand::Waypoints { points, .. } => {
             let g = l.cell_of(points[pilot.next]);
-            if ctol {
-                if pilot.plan.is_empty() {
-                    pilot.plan = plan_ctol([b.cell[0], b.cell[1]], b.dir, [g[0], g[1]]);
-                }
-                let m = pilot.plan.pop().unwrap_or(Maneuver { turn: 0, climb: 0 });
-                let climb = sign(g[2] - b.cell[2]);
-                ctol_move(&b, i32::from(m.turn), climb)
-            } else {
-                let d = [g[0] - b.cell[0], g[1] - b.cell[1], g[2] - b.cell[2]];
-                let to = [
-                    b.cell[0] + sign(d[0]),
-                    b.cell[1] + sign(d[1]),
-                    b.cell[2] + sign(d[2]),
-                ];
-                let dir = if d[0] != 0 || d[1] != 0 {
-                    dir_of(libm::atan2(f64::from(sign(d[1])), f64::from(sign(d[0]))))
-                } else {
-                    b.dir
-                };
-                (to, dir)
-            }
+            waypoint_step(&b, g, ctol, &mut pilot.plan)
         }
         FlightCommand::Straight {
             heading, altitude, ..

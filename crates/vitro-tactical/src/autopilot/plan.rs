@@ -23,6 +23,39 @@ pub(crate) fn ctol_move(b: &LatticeBody, turn: i32, climb: i32) -> ([i32; 3], u8
     ([b.cell[0] + s[0], b.cell[1] + s[1], b.cell[2] + climb], dir)
 }
 
+/// The cell and heading of a lattice aircraft's next maneuver towards waypoint cell `g`:
+/// a fixed-wing aircraft (`ctol`) flies the next maneuver of its A* plan (planned afresh
+/// when `plan` is empty) and climbs one cell towards `g`; a helicopter steps one cell
+/// towards `g` on each axis. The autopilot and [`maneuvers`] share it, so a calibration
+/// times the very cells the autopilot flies.
+pub(crate) fn waypoint_step(
+    b: &LatticeBody,
+    g: [i32; 3],
+    ctol: bool,
+    plan: &mut Vec<Maneuver>,
+) -> ([i32; 3], u8) {
+    if ctol {
+        if plan.is_empty() {
+            *plan = plan_ctol([b.cell[0], b.cell[1]], b.dir, [g[0], g[1]]);
+        }
+        let m = plan.pop().unwrap_or(Maneuver { turn: 0, climb: 0 });
+        ctol_move(b, i32::from(m.turn), sign(g[2] - b.cell[2]))
+    } else {
+        let d = [g[0] - b.cell[0], g[1] - b.cell[1], g[2] - b.cell[2]];
+        let to = [
+            b.cell[0] + sign(d[0]),
+            b.cell[1] + sign(d[1]),
+            b.cell[2] + sign(d[2]),
+        ];
+        let dir = if d[0] != 0 || d[1] != 0 {
+            dir_of(libm::atan2(f64::from(sign(d[1])), f64::from(sign(d[0]))))
+        } else {
+            b.dir
+        };
+        (to, dir)
+    }
+}
+
 #[derive(PartialEq)]
 struct Open(f64, [i32; 3]);
 impl Eq for Open {}
@@ -145,26 +178,7 @@ pub fn maneuvers(
             return Some(out);
         };
         let g = l.cell_of(p);
-        let (to, d) = if ctol {
-            if plan.is_empty() {
-                plan = plan_ctol([b.cell[0], b.cell[1]], b.dir, [g[0], g[1]]);
-            }
-            let m = plan.pop().unwrap_or(Maneuver { turn: 0, climb: 0 });
-            ctol_move(&b, i32::from(m.turn), sign(g[2] - b.cell[2]))
-        } else {
-            let d = [g[0] - b.cell[0], g[1] - b.cell[1], g[2] - b.cell[2]];
-            let to = [
-                b.cell[0] + sign(d[0]),
-                b.cell[1] + sign(d[1]),
-                b.cell[2] + sign(d[2]),
-            ];
-            let dir = if d[0] != 0 || d[1] != 0 {
-                dir_of(libm::atan2(f64::from(sign(d[1])), f64::from(sign(d[0]))))
-            } else {
-                b.dir
-            };
-            (to, dir)
-        };
+        let (to, d) = waypoint_step(&b, g, ctol, &mut plan);
         let (p0, p1) = (l.point(b.cell), l.point(to));
         out.push([
             libm::hypot(p1[0] - p0[0], p1[1] - p0[1]),
