@@ -292,12 +292,18 @@ fn looks_with_many_visions_in_turn_see_what_a_scan_sees() {
             k: 1.0,
             misidentification: 0.3,
         };
-        for _ in 0..5 {
-            let id = EntityId(rng.random_range(0..N));
-            a.vtol.update(id, |b| b.pos[1] += 3.0);
-        }
-        for i in (0..N).step_by(11) {
-            look_one(&a, &v, u64::from(t), i, &mut g, &mut s);
+        // Each observer looks with the round's vision, bodies move, it looks again (the
+        // second look brings the first up to date).
+        for pass in 0..2 {
+            if pass == 1 {
+                for _ in 0..5 {
+                    let id = EntityId(rng.random_range(0..N));
+                    a.vtol.update(id, |b| b.pos[1] += 3.0);
+                }
+            }
+            for i in (0..N).step_by(11) {
+                look_one(&a, &v, u64::from(2 * t + pass), i, &mut g, &mut s);
+            }
         }
         // The same look, its two halves apart, from copies of one stream.
         let me = EntityId(t % N);

@@ -107,19 +107,6 @@ impl Looks {
     }
 }
 
-/// Reads one value of every cache line of `seen` (all loads at once, not one after another
-/// along a scan), so the list is in cache by the time the look goes along it: a looker's list
-/// is read once a second, after a thousand other lookers', and is never in cache before.
-pub(super) fn warm(seen: &[InSight]) {
-    // Entries a line holds whole (one, for 56-byte entries: then every entry is read).
-    const STEP: usize = 64 / std::mem::size_of::<InSight>();
-    let mut x = 0u32;
-    for s in seen.iter().step_by(STEP.max(1)) {
-        x ^= s.id.0;
-    }
-    std::hint::black_box(x);
-}
-
 /// Most visions remembered at once.
 const VISIONS_MAX: usize = 64;
 
@@ -147,5 +134,17 @@ pub(super) fn update(
             (false, Some(s)) => seen.insert(at, s),
             (false, None) => {}
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_memo_is_small() {
+        // The body's bits, the vision's index, the clock and the list (it was 104 bytes and
+        // an `Arc` of 40 more before the vision was named by an index).
+        assert!(std::mem::size_of::<Option<Memo>>() <= 80);
     }
 }

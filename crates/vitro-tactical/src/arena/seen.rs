@@ -12,11 +12,11 @@
 //! fresh look finds, in id order, so the draws that follow are the same too. A look whose
 //! memo is of another body or vision, or older than the log (or than [`SCAN_MAX`] changes),
 //! is computed afresh. The draws of [`Arena::look`] read the remembered list in place (no
-//! copy, no shared pointer to follow: a look touches few cold cache lines).
+//! copy, no shared pointer to follow).
 
 use super::Arena;
 use super::grid::Bodies;
-use super::looks::{LookCounts, Memo, SCAN_MAX, key, update, warm};
+use super::looks::{LookCounts, Memo, SCAN_MAX, key, update};
 use crate::sensor::{FriendFoeVision, InSight, Sighting};
 use crate::world::Body;
 use rand::Rng;
@@ -97,7 +97,6 @@ impl Arena {
             .take()
             .filter(|m| m.key == k && m.vision == v)
             .and_then(|m| {
-                warm(&m.seen);
                 let changes = grid.changes_since(m.at)?;
                 (changes.len() <= SCAN_MAX).then_some((m.seen, changes))
             });
