@@ -10,10 +10,12 @@
 //! in a child process of its own (this example re-run with `--row`), so its peak resident
 //! memory (`VmHWM` of `/proc/self/status`) is that row's alone.
 //!
-//! Columns: level, entities, events fired, wall seconds of the run (setup excluded), µs per
-//! event, simulated seconds per wall second, the run's CPU seconds and µs of CPU per event
-//! (the thread's own time: steadier than wall time on a loaded machine), the setup's wall
-//! seconds, peak RSS in MiB, the simulated seconds run and the run's trace hash (equal
+//! Columns: level; entities, every entity of the scenario (the mission's members: the
+//! default scenario's 20 plus 125 per extra block; `--sizes 150,500,2000` gives 145, 520
+//! and 2,020); the extra blocks; events fired, wall seconds of the run (setup excluded), µs
+//! per event, simulated seconds per wall second, the run's CPU seconds and µs of CPU per
+//! event (the thread's own time: steadier than wall time on a loaded machine), the setup's
+//! wall seconds, peak RSS in MiB, the simulated seconds run and the run's trace hash (equal
 //! before and after a change that must not alter the model). On stderr, each row adds how
 //! vision's looks were answered (`Arena::look_counts`) and the line-of-sight memo's counts.
 
@@ -112,7 +114,7 @@ fn row(blocks: u32, level: &str, until_s: f64) -> Result<(), Box<dyn std::error:
     let events = mission.sim.events_fired();
     let sim_s = mission.sim.now().as_secs_f64();
     println!(
-        "{level:>12} {entities:>8} {events:>10} {wall:>8.2} {:>9.2} {:>9.1} {cpu:>7.2} {:>9.2} {setup:>7.2} {:>8.1} {sim_s:>7.0} {:016x}",
+        "{level:>12} {entities:>8} {blocks:>6} {events:>10} {wall:>8.2} {:>9.2} {:>9.1} {cpu:>7.2} {:>9.2} {setup:>7.2} {:>8.1} {sim_s:>7.0} {:016x}",
         wall * 1e6 / events.max(1) as f64,
         sim_s / wall,
         cpu * 1e6 / events.max(1) as f64,
@@ -162,9 +164,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let base = ScenarioFile::load(scenario_path()).map_err(|d| d.render())?;
     let default: u32 = base.file.entities.iter().map(|e| e.count.max(1)).sum();
     println!(
-        "{:>12} {:>8} {:>10} {:>8} {:>9} {:>9} {:>7} {:>9} {:>7} {:>8} {:>7} trace hash",
+        "{:>12} {:>8} {:>6} {:>10} {:>8} {:>9} {:>9} {:>7} {:>9} {:>7} {:>8} {:>7} trace hash",
         "level",
         "entities",
+        "blocks",
         "events",
         "wall s",
         "µs/event",

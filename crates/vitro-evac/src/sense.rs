@@ -20,13 +20,9 @@ impl Sensor<Arena> for Vision {
         let Some(mine) = w.body(me) else {
             return Vec::new();
         };
-        // The bodies it can see, in id order (from the arena's grid and its memo of looks);
-        // the draws then go in id order, as in a look at every entity in id order.
-        let seen = w.in_sight(me, &mine, &self.0);
-        let rng = probe.rng("fof");
-        let mut sightings = Vec::with_capacity(seen.len());
-        sightings.extend(seen.iter().filter_map(|s| self.0.draw(s, &mut *rng)));
-        sightings
+        // The bodies it can see, in id order (from the arena's grid and its memo of looks),
+        // drawn for in id order, as in a look at every entity in id order.
+        w.look(me, &mine, &self.0, probe.rng("fof"))
     }
 }
 

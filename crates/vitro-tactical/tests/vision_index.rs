@@ -274,3 +274,50 @@ fn bodies_near_holds_every_body_in_range() {
         }
     }
 }
+
+#[test]
+fn looks_with_many_visions_in_turn_see_what_a_scan_sees() {
+    // The memo names a look's vision by an index in a short table, emptied (with the
+    // memos) when more than it holds have been used: visions taken in turn, more of them
+    // than the table holds, while bodies move, must still see what a scan sees; and a look
+    // draws as `in_sight` followed by `draw` in id order.
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    let mut a = arena(&mut rng);
+    let (mut g, mut s) = (RngStreams::new(3), RngStreams::new(3));
+    for t in 0..90u32 {
+        let v = FriendFoeVision {
+            range: 100.0 + f64::from(t % 80) * 2.0,
+            half_fov: 0.8 + f64::from(t % 3) * 0.5,
+            p0: 0.9,
+            k: 1.0,
+            misidentification: 0.3,
+        };
+        // Each observer looks with the round's vision, bodies move, it looks again (the
+        // second look brings the first up to date).
+        for pass in 0..2 {
+            if pass == 1 {
+                for _ in 0..5 {
+                    let id = EntityId(rng.random_range(0..N));
+                    a.vtol.update(id, |b| b.pos[1] += 3.0);
+                }
+            }
+            for i in (0..N).step_by(11) {
+                look_one(&a, &v, u64::from(2 * t + pass), i, &mut g, &mut s);
+            }
+        }
+        // The same look, its two halves apart, from copies of one stream.
+        let me = EntityId(t % N);
+        if let Some(mine) = a.body(me) {
+            let mut r1 = ChaCha8Rng::seed_from_u64(u64::from(t));
+            let mut r2 = r1.clone();
+            let halves: Vec<Sighting> = a
+                .in_sight(me, &mine, &v)
+                .iter()
+                .filter_map(|x| v.draw(x, &mut r1))
+                .collect();
+            assert_eq!(a.look(me, &mine, &v, &mut r2), halves, "look {t}");
+        }
+    }
+    let c = a.look_counts();
+    assert!(c.updated > 0 && c.computed > 0, "{c:?}");
+}

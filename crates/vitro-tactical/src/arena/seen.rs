@@ -11,14 +11,15 @@
 //! out; no other body can have come into sight or gone out of it. The answer is the set a
 //! fresh look finds, in id order, so the draws that follow are the same too. A look whose
 //! memo is of another body or vision, or older than the log (or than [`SCAN_MAX`] changes),
-//! is computed afresh.
+//! is computed afresh. The draws of [`Arena::look`] read the remembered list in place (no
+//! copy, no shared pointer to follow).
 
 use super::Arena;
 use super::grid::Bodies;
 use super::looks::{LookCounts, Memo, SCAN_MAX, key, update};
-use crate::sensor::{FriendFoeVision, InSight};
+use crate::sensor::{FriendFoeVision, InSight, Sighting};
 use crate::world::Body;
-use std::sync::Arc;
+use rand::Rng;
 use vitro::entity::EntityId;
 
 /// What a look of `v` from `me` (body `mine`) at the bodies `near` can see, in id order.
@@ -39,41 +40,72 @@ fn compute(
 impl Arena {
     /// What a look of `vision` from `me`, whose body is `mine`, can see
     /// ([`FriendFoeVision::can_see`]: range, field of view, line of sight), in id order; a
-    /// sensor then draws for them ([`FriendFoeVision::draw`]). The same answer as examining
-    /// every active body; remembered per looker and brought up to date with what changed.
-    pub fn in_sight(
+    /// sensor then draws for them ([`FriendFoeVision::draw`], or all at once:
+    /// [`look`](Self::look)). The same answer as examining every active body; remembered per
+    /// looker and brought up to date with what changed.
+    pub fn in_sight(&self, me: EntityId, mine: &Body, vision: &FriendFoeVision) -> Vec<InSight> {
+        self.with_in_sight(me, mine, vision, <[InSight]>::to_vec)
+    }
+
+    /// One look of `vision` from `me`, whose body is `mine`: the bodies it can see
+    /// ([`in_sight`](Self::in_sight)), drawn for in id order from `rng`
+    /// ([`FriendFoeVision::draw`]): the sightings a look at every active body in id order
+    /// makes, with the same draws. The draws read the looker's remembered list in place.
+    pub fn look(
         &self,
         me: EntityId,
         mine: &Body,
         vision: &FriendFoeVision,
-    ) -> Arc<Vec<InSight>> {
+        rng: &mut impl Rng,
+    ) -> Vec<Sighting> {
+        self.with_in_sight(me, mine, vision, |seen| {
+            let mut sightings = Vec::with_capacity(seen.len());
+            sightings.extend(seen.iter().filter_map(|s| vision.draw(s, &mut *rng)));
+            sightings
+        })
+    }
+
+    /// Calls `f` with what [`in_sight`](Self::in_sight) answers, read in place (under the
+    /// arena's lock of vision: `f` must not look again).
+    fn with_in_sight<R>(
+        &self,
+        me: EntityId,
+        mine: &Body,
+        vision: &FriendFoeVision,
+        f: impl FnOnce(&[InSight]) -> R,
+    ) -> R {
         let Ok(mut guard) = self.vision.lock() else {
             // A panic elsewhere poisoned the lock: examine everything.
-            return Arc::new(compute(self, me, mine, vision, Bodies::all(self)));
+            return f(&compute(self, me, mine, vision, Bodies::all(self)));
         };
         let looks = &mut *guard;
         looks.grid.sync(self);
+        let (generation, now) = looks.grid.now();
+        if generation != looks.generation {
+            // A rebuilt grid: its clock and cells mean nothing to the memos.
+            looks.memos.clear();
+            looks.generation = generation;
+        }
         let (x, y, r) = (mine.pos[0], mine.pos[1], vision.range);
-        let k = key(mine, vision);
+        let (k, v) = (key(mine), looks.vision_index(vision));
         let i = me.index();
         if looks.memos.len() <= i {
             looks.memos.resize_with(i + 1, || None);
         }
-        let now = looks.grid.now();
         let grid = &looks.grid;
         let fresh = looks.memos[i]
             .take()
-            .filter(|m| m.key == k && m.at.0 == now.0)
+            .filter(|m| m.key == k && m.vision == v)
             .and_then(|m| {
-                let changes = grid.changes_since(m.at.1)?;
-                (changes.len() <= SCAN_MAX).then_some((m, changes))
+                let changes = grid.changes_since(m.at)?;
+                (changes.len() <= SCAN_MAX).then_some((m.seen, changes))
             });
         let seen = match fresh {
-            Some((m, [])) => {
+            Some((seen, [])) => {
                 looks.counts.remembered += 1;
-                m.seen
+                seen
             }
-            Some((mut m, changes)) => {
+            Some((mut seen, changes)) => {
                 looks.counts.updated += 1;
                 looks.counts.scanned += changes.len() as u64;
                 // Only the bodies that changed in the cells the look covers can have come into
@@ -92,22 +124,24 @@ impl Arena {
                         (id != me && vision.can_see_by(mine, &b, |p, q| self.visible(p, q)))
                             .then(|| vision.in_sight(mine, id, &b))
                     };
-                    update(Arc::make_mut(&mut m.seen), ids, now_seen);
+                    update(&mut seen, ids, now_seen);
                 }
-                m.seen
+                seen
             }
             None => {
                 looks.counts.computed += 1;
-                Arc::new(compute(self, me, mine, vision, grid.query(x, y, r)))
+                compute(self, me, mine, vision, grid.query(x, y, r))
             }
         };
         looks.counts.in_sight += seen.len() as u64;
+        let out = f(&seen);
         looks.memos[i] = Some(Memo {
             key: k,
+            vision: v,
             at: now,
-            seen: seen.clone(),
+            seen,
         });
-        seen
+        out
     }
 
     /// How looks ([`in_sight`](Self::in_sight)) were answered so far.
