@@ -45,6 +45,7 @@
 
 mod calendar;
 mod radix;
+mod today;
 
 use crate::time::SimTime;
 use calendar::Calendar;
