@@ -54,7 +54,7 @@ impl Today {
             }
             v[i] = e;
         } else {
-            self.to_heap();
+            self.become_heap();
             self.heap_push(e);
         }
     }
@@ -90,7 +90,7 @@ impl Today {
     /// Turns the sorted list into a min-heap: ascending order is heap order.
     #[cold]
     #[inline(never)]
-    fn to_heap(&mut self) {
+    fn become_heap(&mut self) {
         self.v.reverse();
         self.heap = true;
     }
