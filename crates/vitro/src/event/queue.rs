@@ -7,14 +7,15 @@
 //!
 //! Entries are keyed by the 128-bit `(time << 64) | seq`, so equal times pop in push order.
 //! They live in three tiers (module `calendar`): the current *day* (a span of `2^k`
-//! nanoseconds, about the mean gap between events) in a small binary heap; the next days,
-//! up to a horizon a few mean hold times ahead, unsorted in a ring of day buckets (a calendar
-//! queue, Brown 1988); and the events beyond the horizon in a monotone radix heap. A push is an
-//! append to its tier; a pop takes the heap's minimum and, when the day is over, heapifies the
-//! next non-empty day (found in a two-level bitmap) and moves the far events the window now
-//! covers from the radix heap to the ring. The day width and count follow the observed gaps
-//! and hold distances, revised at most once per `len` pops (a revision is O(len)). A crowded
-//! instant costs O(log n) per event in the day heap, never a linear scan.
+//! nanoseconds, about the mean gap between events) in a short list sorted by key, largest
+//! first; the next days, up to a horizon a few mean hold times ahead, unsorted in a ring of
+//! day buckets (a calendar queue, Brown 1988); and the events beyond the horizon in a monotone
+//! radix heap. A push is an append to its tier (an insertion for the current day); a pop takes
+//! the day list's last entry and, when the day is over, sorts the next non-empty day (found in
+//! a two-level bitmap) into the list and moves the far events the window now covers from the
+//! radix heap to the ring. The day width and count follow the observed gaps and hold
+//! distances, revised at most once per `len` pops (a revision is O(len)). A crowded instant
+//! turns the day list into a binary heap: O(log n) per event, never a linear scan.
 //!
 //! Simulated time never goes back: an event is never scheduled before the last popped one, and
 //! every new event gets a larger sequence number than any before it. So the keys leave the queue in
@@ -44,6 +45,7 @@
 
 mod calendar;
 mod radix;
+mod today;
 
 use crate::time::SimTime;
 use calendar::Calendar;
@@ -353,11 +355,11 @@ impl<T> EventQueue<T> {
         let slot = if self.free_head != NO_FREE {
             let s = self.free_head;
             let cell = &mut self.slots[s as usize];
-            let Slot::Free { next_free } = *cell else {
+            // The old value is matched, not dropped: nothing to check for a drop.
+            let Slot::Free { next_free } = std::mem::replace(cell, pending) else {
                 unreachable!("the free list links only free slots")
             };
             self.free_head = next_free;
-            *cell = pending;
             s
         } else {
             let s = self.slots.len();

@@ -118,6 +118,7 @@ impl Control {
         self.0.generation.fetch_add(1, Ordering::Release);
         self.0.changed.notify_all();
     }
+    #[inline]
     pub(crate) fn generation(&self) -> u64 {
         self.0.generation.load(Ordering::Acquire)
     }

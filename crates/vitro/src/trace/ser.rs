@@ -95,8 +95,14 @@ impl<'a, W: Words> WordSer<'a, W> {
         if n < 8 {
             self.chunk(packed | (v << (8 * n)), n + 1);
         } else {
+            // At most 8 bits left: one or two bytes (not a recursive call, so that the whole
+            // varint inlines where a value is traced).
             self.chunk(packed, 8);
-            self.varint(v); // at most 8 bits left: one or two bytes
+            if v < 0x80 {
+                self.chunk(v, 1);
+            } else {
+                self.chunk((v & 0x7F) | 0x80 | ((v >> 7) << 8), 2);
+            }
         }
     }
 

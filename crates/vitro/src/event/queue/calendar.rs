@@ -1,12 +1,13 @@
 //! The near-future tiers in front of the radix heap: a calendar of time buckets ("days") and
-//! a small binary heap for the current day.
+//! a short sorted list for the current day.
 //!
 //! Time is cut into days of `2^shift` nanoseconds. The entries of the current day sit in
-//! `today`, a binary min-heap on (time, seq). The entries of the next `days - 1` days sit
-//! unsorted in a ring of buckets (chunk lists, one per day), and every later entry waits in
-//! the radix heap (`far`). A push is an append to one of the three. A pop takes the heap's
-//! minimum; when today is over, the next non-empty day (found in a two-level bitmap) is
-//! heapified into `today`, and the far entries that the advancing window now covers move to
+//! `today`, a short list sorted on (time, seq) (a binary min-heap when events crowd into one
+//! day). The entries of the next `days - 1` days sit unsorted in a ring of buckets (chunk
+//! lists, one per day), and every later entry waits in the radix heap (`far`). A push is an
+//! append to one of the three (an insertion for today). A pop takes today's minimum, the
+//! list's last entry; when today is over, the next non-empty day (found in a two-level bitmap) is
+//! sorted into `today`, and the far entries that the advancing window now covers move to
 //! the ring. With the day width near the mean gap between events, a day holds a handful of
 //! entries: a pop or a push is a few sequential memory accesses.
 //!
@@ -17,86 +18,23 @@
 //! revised at most once per `max(len, 64)` pops; a revision rebuilds the tiers in O(len).
 
 use super::radix::{BUCKETS, CHUNK, Entry, Head, NIL, RadixHeap};
+use super::today::Today;
 
 /// Most days in the ring (the bitmap is 64 words and a one-word summary).
 pub(super) const MAX_DAYS: usize = 4096;
 /// Fewest days in the ring.
 const MIN_DAYS: usize = 64;
-/// Days per pending event (rounded to a power of two, within the bounds above).
-/// Measured on the hold benchmark at 10^3 pending: 1 beats 2, 4 and 8 (fewer chunks touched).
-const DAYS_PER_EVENT: usize = 1;
+/// Pending events per day (the number of days is rounded to a power of two, within the
+/// bounds above). On the hold benchmark at 10^3 pending (cachegrind, per event), 2 touches
+/// fewer cache lines than 1 (2.3 first-level misses against 2.8) with a few instructions
+/// fewer; 4 misses less still (2.0) but sorts longer days (more instructions). (While today
+/// was a heap, one day per event had beaten two, four and eight.)
+const EVENTS_PER_DAY: usize = 2;
 /// The ring should cover this many times the mean distance of pushes ahead of now (4 beats
 /// 2, 8 and 16 on the hold benchmark: few events go through the far heap, days stay small).
 const SPAN_FACTOR: u64 = 4;
 /// Day width before anything was observed: about a millisecond.
 const INITIAL_SHIFT: u32 = 20;
-
-/// Today's entries: a binary min-heap on their keys (a day holds a few entries, or many when
-/// events crowd into one instant: O(log n) per operation either way).
-#[derive(Clone, Debug, Default)]
-struct Today(Vec<Entry>);
-
-impl Today {
-    #[cfg(test)]
-    fn len(&self) -> usize {
-        self.0.len()
-    }
-
-    #[inline(always)]
-    fn peek(&self) -> Option<&Entry> {
-        self.0.first()
-    }
-
-    fn iter(&self) -> impl Iterator<Item = &Entry> {
-        self.0.iter()
-    }
-
-    #[inline(always)]
-    fn push(&mut self, e: Entry) {
-        let mut i = self.0.len();
-        self.0.push(e);
-        let k = e.key();
-        let v = &mut self.0[..];
-        while i > 0 {
-            let parent = (i - 1) / 2;
-            if v[parent].key() <= k {
-                break;
-            }
-            v[i] = v[parent];
-            i = parent;
-        }
-        v[i] = e;
-    }
-
-    #[inline(always)]
-    fn pop(&mut self) -> Option<Entry> {
-        let last = self.0.pop()?;
-        let Some(&top) = self.0.first() else {
-            return Some(last);
-        };
-        // Sift `last` down from the root.
-        let v = &mut self.0[..];
-        let n = v.len();
-        let k = last.key();
-        let mut i = 0;
-        loop {
-            let mut child = 2 * i + 1;
-            if child >= n {
-                break;
-            }
-            if child + 1 < n && v[child + 1].key() < v[child].key() {
-                child += 1;
-            }
-            if k <= v[child].key() {
-                break;
-            }
-            v[i] = v[child];
-            i = child;
-        }
-        v[i] = last;
-        Some(top)
-    }
-}
 
 /// What the queue observed since the last revision of the day width.
 #[derive(Clone, Debug, Default)]
@@ -111,7 +49,7 @@ struct Observed {
     since: u64,
 }
 
-/// The three tiers: today's heap, the ring of days, the far radix heap.
+/// The three tiers: today's list, the ring of days, the far radix heap.
 ///
 /// Invariants: `today` holds the entries with time below `today_end`; ring bucket `d % days`
 /// holds the entries of day `d` for `cur_day < d < cur_day + days` (time below `horizon`);
@@ -236,15 +174,14 @@ impl Calendar {
         let (mut c, mut n) = (head, len);
         while c != NIL {
             let chunk = &mut self.far.chunks[c as usize];
-            for &e in &chunk.entries[..n as usize] {
-                self.today.push(e);
-            }
+            self.today.extend(&chunk.entries[..n as usize]);
             let next = std::mem::replace(&mut chunk.next, NIL);
             if c != head {
                 self.far.free_chunk(c);
             }
             (c, n) = (next, CHUNK as u32);
         }
+        self.today.settle();
     }
 
     /// The first non-empty ring bucket at or after `from`, wrapping around.
@@ -347,7 +284,7 @@ impl Calendar {
     /// The layout the observations call for: (shift, days).
     fn wanted_layout(&self, now: u64) -> (u32, usize) {
         let o = &self.observed;
-        let days = (self.len.saturating_mul(DAYS_PER_EVENT))
+        let days = (self.len / EVENTS_PER_DAY)
             .next_power_of_two()
             .clamp(MIN_DAYS, MAX_DAYS);
         let gap = (now - o.since) / o.pops.max(1);
