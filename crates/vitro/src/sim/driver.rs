@@ -11,6 +11,7 @@ use crate::env::Effects;
 use crate::event::{EventId, Popped, ScheduleError, Target};
 use crate::rng::{Owner, RngStreams};
 use crate::time::{SimDuration, SimTime};
+use crate::trace::TraceHasher;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
@@ -310,50 +311,38 @@ impl<M: Model> Simulation<M> {
         let tr = &mut self.k.trace;
         tr.write_u64(t.as_nanos());
         tr.write_u64(p.id.seq());
-        // Events first, through one path (one call of the payload's digest).
-        let event = match &p.payload {
-            Queued::Event(target, ev) => Some((*target, ev)),
+        let payloads = self.k.trace_payloads;
+        let (target, input) = match &p.payload {
+            Queued::Event(target, ev) => traced_event(tr, *target, ev, payloads),
             // Traced as an event targeted at `who` (the same bits as before the split).
-            Queued::Own(who, ev) => Some((Target::Entity(*who), ev)),
-            _ => None,
-        };
-        let (target, input) = if let Some((target, ev)) = event {
-            tr.write_u64(target_code(target));
-            if self.k.trace_payloads {
-                tr.digest(ev);
+            Queued::Own(who, ev) => traced_event(tr, Target::Entity(*who), ev, payloads),
+            Queued::Message(e) => {
+                tr.write_u64(1 << 62);
+                tr.digest(e);
+                self.k.network.count_received(e.receiver, e.protocol);
+                (Target::Entity(e.receiver), Input::Message(e))
             }
-            (target, Input::Event(ev))
-        } else {
-            match &p.payload {
-                Queued::Message(e) => {
-                    tr.write_u64(1 << 62);
-                    tr.digest(e);
-                    self.k.network.count_received(e.receiver, e.protocol);
-                    (Target::Entity(e.receiver), Input::Message(e))
-                }
-                Queued::Bounce(b) => {
-                    let (e, err) = &**b;
-                    tr.write_u64(2 << 62);
-                    tr.digest(e);
-                    tr.digest(err);
-                    (Target::Entity(e.from), Input::Undeliverable(e, *err))
-                }
-                Queued::Timer(who, key) => {
-                    tr.write_u64((3 << 62) | who.0 as u64);
-                    tr.write_u64(*key);
-                    (Target::Entity(*who), Input::Timer(*key))
-                }
-                Queued::Round(r) => {
-                    tr.write_u64((1 << 61) | u64::from(*r));
-                    self.fire_round(t, p.id, *r);
-                    self.control
-                        .0
-                        .sim_now
-                        .store(t.as_nanos(), Ordering::Release);
-                    self.control.0.fired.store(self.k.fired, Ordering::Release);
-                    return t;
-                }
-                Queued::Event(..) | Queued::Own(..) => unreachable!("events took the path above"),
+            Queued::Bounce(b) => {
+                let (e, err) = &**b;
+                tr.write_u64(2 << 62);
+                tr.digest(e);
+                tr.digest(err);
+                (Target::Entity(e.from), Input::Undeliverable(e, *err))
+            }
+            Queued::Timer(who, key) => {
+                tr.write_u64((3 << 62) | who.0 as u64);
+                tr.write_u64(*key);
+                (Target::Entity(*who), Input::Timer(*key))
+            }
+            Queued::Round(r) => {
+                tr.write_u64((1 << 61) | u64::from(*r));
+                self.fire_round(t, p.id, *r);
+                self.control
+                    .0
+                    .sim_now
+                    .store(t.as_nanos(), Ordering::Release);
+                self.control.0.fired.store(self.k.fired, Ordering::Release);
+                return t;
             }
         };
         match target {
@@ -531,6 +520,22 @@ impl<M: Model> Simulation<M> {
             }
         }
     }
+}
+
+/// Traces an event for `target` (its payload too when `payloads`) and gives the receiver's
+/// input: the one path of plain and own events, so the payload's digest is one call site.
+#[inline]
+fn traced_event<'a, M: Model>(
+    tr: &mut TraceHasher,
+    target: Target,
+    ev: &'a M::Event,
+    payloads: bool,
+) -> (Target, Input<'a, M>) {
+    tr.write_u64(target_code(target));
+    if payloads {
+        tr.digest(ev);
+    }
+    (target, Input::Event(ev))
 }
 
 fn target_code(t: Target) -> u64 {
