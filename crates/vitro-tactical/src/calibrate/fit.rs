@@ -158,7 +158,7 @@ pub fn calibrate(
             x.push(f.row());
             y.push(target);
         }
-        let p = least_squares(&x, &y, [1.0, 0.0, 0.0, 0.0, 0.0]);
+        let p = least_squares(&x, &y, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
         fits.push(Fit {
             entity: entity.clone(),
             level: level.name().to_owned(),
@@ -168,6 +168,7 @@ pub fn calibrate(
             kappa: p[2],
             gamma: p[3],
             delta: p[4],
+            epsilon: p[5],
             trips: x.len(),
             fit_residuals: Residuals::default(),
             held_out: Residuals::default(),
@@ -176,7 +177,8 @@ pub fn calibrate(
     let mut cal = Calibration {
         format: FORMAT,
         model: "T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m + delta * \
-                start_turn_rad; the abstract level's profile is stretched by T / T_profile"
+                start_turn_rad + epsilon * max(0, start_turn_rad - pi/4)^2; the abstract \
+                level's profile is stretched by T / T_profile"
             .into(),
         scenario: stamp.scenario.clone(),
         map: stamp.map.clone(),

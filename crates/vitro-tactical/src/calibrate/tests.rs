@@ -22,6 +22,7 @@ fn sample() -> Calibration {
             kappa: 0.5,
             gamma: 0.01,
             delta: 0.7,
+            epsilon: 5.5,
             trips: 3,
             fit_residuals: Residuals::of(&[10.0, 20.0], &[9.0, 18.0], &[10.5, 19.0]),
             held_out: Residuals::default(),
