@@ -234,13 +234,12 @@ pub(crate) fn summary(cal: &Calibration) -> String {
     );
     for f in &cal.fits {
         let p = [f.alpha, f.beta, f.kappa, f.gamma, f.delta, f.epsilon];
-        s.push_str(&fit_row(
-            &f.entity,
-            &f.level,
-            &p,
-            &f.fit_residuals,
-            &f.held_out,
-        ));
+        let name = if f.excluded > 0 {
+            format!("{} ({} left out)", f.entity, f.excluded)
+        } else {
+            f.entity.clone()
+        };
+        s.push_str(&fit_row(&name, &f.level, &p, &f.fit_residuals, &f.held_out));
     }
     if !cal.aircraft.is_empty() {
         s.push_str(

@@ -214,6 +214,10 @@ pub struct Fit {
     pub epsilon: f64,
     /// Trips fitted.
     pub trips: usize,
+    /// Trips of the fitted set the outlier screen left out ([`fit::screened_fit`]; their
+    /// residuals still count in `fit_residuals`).
+    #[serde(default)]
+    pub excluded: usize,
     /// Residuals on the fitted trips (abstract level without / with calibration against the
     /// concrete level).
     pub fit_residuals: Residuals,
