@@ -202,11 +202,12 @@ pub(crate) fn calibrate(args: &CalibrateArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// One fit's table row: its name, level, the five parameters (alpha, beta, kappa, gamma,
-/// delta) and its residuals on the fitted and the held-out trips.
-fn fit_row(name: &str, level: &str, p: [f64; 5], r: &Residuals, h: &Residuals) -> String {
+/// One fit's table row: its name, level, the parameters (alpha, beta, kappa, gamma, delta,
+/// and epsilon for a trip fit) and its residuals on the fitted and the held-out trips.
+fn fit_row(name: &str, level: &str, p: &[f64], r: &Residuals, h: &Residuals) -> String {
+    let extra: String = p.iter().skip(5).map(|x| format!(" {x:.2} |")).collect();
     format!(
-        "| {name} | {level} | {:.3} | {:.1} | {:.2} | {:.3} | {:.2} | {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}, max {:.1}), n={} |\n",
+        "| {name} | {level} | {:.3} | {:.1} | {:.2} | {:.3} | {:.2} |{extra} {:+.1} -> {:+.1} ({:.1} -> {:.1}), n={} | {:+.1} -> {:+.1} ({:.1} -> {:.1}, max {:.1}), n={} |\n",
         p[0],
         p[1],
         p[2],
@@ -229,17 +230,16 @@ fn fit_row(name: &str, level: &str, p: [f64; 5], r: &Residuals, h: &Residuals) -
 /// The fits and their residuals as a Markdown table.
 pub(crate) fn summary(cal: &Calibration) -> String {
     let mut s = String::from(
-        "| entity | level | alpha | beta s | kappa s/rad | gamma s/m | delta s/rad | fit: bias % before -> after (MAPE) | held out: bias % before -> after (MAPE, max) |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| entity | level | alpha | beta s | kappa s/rad | gamma s/m | delta s/rad | epsilon s/rad² | fit: bias % before -> after (MAPE) | held out: bias % before -> after (MAPE, max) |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for f in &cal.fits {
-        let p = [f.alpha, f.beta, f.kappa, f.gamma, f.delta];
-        s.push_str(&fit_row(
-            &f.entity,
-            &f.level,
-            p,
-            &f.fit_residuals,
-            &f.held_out,
-        ));
+        let p = [f.alpha, f.beta, f.kappa, f.gamma, f.delta, f.epsilon];
+        let name = if f.excluded > 0 {
+            format!("{} ({} left out)", f.entity, f.excluded)
+        } else {
+            f.entity.clone()
+        };
+        s.push_str(&fit_row(&name, &f.level, &p, &f.fit_residuals, &f.held_out));
     }
     if !cal.aircraft.is_empty() {
         s.push_str(
@@ -252,7 +252,7 @@ pub(crate) fn summary(cal: &Calibration) -> String {
         s.push_str(&fit_row(
             &f.entity,
             &level,
-            p,
+            &p,
             &f.fit_residuals,
             &f.held_out,
         ));

@@ -62,6 +62,60 @@ pub fn least_squares<const N: usize>(x: &[[f64; N]], y: &[f64], prior: [f64; N])
     solve(a, b).unwrap_or(prior)
 }
 
+/// How many robust standard deviations (1.4826 × the median absolute deviation) a trip's
+/// residual may be off before the fit leaves it out.
+pub const SCREEN_SIGMAS: f64 = 5.0;
+
+/// The trip model's least squares with an outlier screen: fit, leave out the trips whose
+/// residual is more than [`SCREEN_SIGMAS`] robust standard deviations (and at least 2 s)
+/// from the median residual, fit the rest again; up to three rounds, until the kept set
+/// stands. A body that runs into a wall while it turns at its start takes minutes where
+/// the others take seconds: one such trip would otherwise set the start-turn terms for all.
+/// Returns the parameters and how many trips were left out.
+pub fn screened_fit(x: &[[f64; 6]], y: &[f64]) -> ([f64; 6], usize) {
+    let prior = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let mut keep = vec![true; x.len()];
+    let mut p = least_squares(x, y, prior);
+    for _ in 0..3 {
+        let res: Vec<f64> = x
+            .iter()
+            .zip(y)
+            .map(|(r, yi)| yi - r.iter().zip(&p).map(|(a, b)| a * b).sum::<f64>())
+            .collect();
+        let med = median(res.clone());
+        let mad = median(res.iter().map(|r| (r - med).abs()).collect());
+        let bound = (SCREEN_SIGMAS * 1.4826 * mad).max(2.0);
+        let next: Vec<bool> = res.iter().map(|r| (r - med).abs() <= bound).collect();
+        if next == keep || next.iter().filter(|k| **k).count() < 8 {
+            break;
+        }
+        keep = next;
+        let (xs, ys): (Vec<[f64; 6]>, Vec<f64>) = x
+            .iter()
+            .zip(y)
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|((r, yi), _)| (*r, *yi))
+            .unzip();
+        p = least_squares(&xs, &ys, prior);
+    }
+    (p, keep.iter().filter(|k| !**k).count())
+}
+
+/// The median of `v` (0 for an empty list).
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
 /// Gaussian elimination with partial pivoting.
 fn solve<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
     for c in 0..N {
@@ -158,7 +212,7 @@ pub fn calibrate(
             x.push(f.row());
             y.push(target);
         }
-        let p = least_squares(&x, &y, [1.0, 0.0, 0.0, 0.0, 0.0]);
+        let (p, excluded) = screened_fit(&x, &y);
         fits.push(Fit {
             entity: entity.clone(),
             level: level.name().to_owned(),
@@ -168,7 +222,9 @@ pub fn calibrate(
             kappa: p[2],
             gamma: p[3],
             delta: p[4],
-            trips: x.len(),
+            epsilon: p[5],
+            trips: x.len() - excluded,
+            excluded,
             fit_residuals: Residuals::default(),
             held_out: Residuals::default(),
         });
@@ -176,7 +232,8 @@ pub fn calibrate(
     let mut cal = Calibration {
         format: FORMAT,
         model: "T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m + delta * \
-                start_turn_rad; the abstract level's profile is stretched by T / T_profile"
+                start_turn_rad + epsilon * max(0, start_turn_rad - pi/4)^2; the abstract \
+                level's profile is stretched by T / T_profile"
             .into(),
         scenario: stamp.scenario.clone(),
         map: stamp.map.clone(),

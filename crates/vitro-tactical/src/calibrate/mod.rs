@@ -13,11 +13,17 @@
 //!
 //! ```text
 //! T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m
+//!     + delta * start_turn_rad + epsilon * start_excess_sq
 //! ```
 //!
 //! with `T_profile` the profile's time, `beta` the fixed cost of a start and a stop,
-//! `turn_rad` the sum of the path's heading changes at its vertices (radians) and `climb_m`
-//! the metres climbed ([`Features`]). A calibrated abstract level stretches the track's
+//! `turn_rad` the sum of the path's heading changes at its vertices (radians), `climb_m`
+//! the metres climbed, `start_turn_rad` the turn from the body's heading at the start onto
+//! the path and `start_excess_sq` the square of that turn's excess over [`START_KNEE`]
+//! ([`Features`]). A rigid body that stands turned off its way by up to about 45° swings
+//! onto it while it pulls away; beyond that it drives off sideways at a creep until it has
+//! turned, and the cost grows with the square of the excess (`--example start_turns` of
+//! `vitro-evac` measures it: 0.5 s at 45°, 3.6 s at 90°, 14.5 s at 135° for the truck). A calibrated abstract level stretches the track's
 //! profile uniformly by `k = T / T_profile` (times × k, speeds ÷ k, k clamped to
 //! [[`STRETCH_MIN`], [`STRETCH_MAX`]]): the discrete level's hops then sum to the predicted
 //! time; the interpolated level, which has its own lag, is fitted against its own
@@ -51,6 +57,10 @@ use std::path::Path;
 pub const STRETCH_MIN: f64 = 0.5;
 /// Largest stretch a calibration applies to a profile.
 pub const STRETCH_MAX: f64 = 3.0;
+/// The start turn, radians, above which a standing rigid body's turn onto its way costs
+/// more than its swing while it pulls away: 45°, where the measured cost bends upwards
+/// (the model's `start_excess_sq` regressor is the square of the excess over it).
+pub const START_KNEE: f64 = std::f64::consts::FRAC_PI_4;
 /// Version of the calibration file format.
 pub const FORMAT: u32 = 1;
 
@@ -156,14 +166,22 @@ impl Features {
         }
     }
 
-    /// The regressors of the model: profile time, 1, turn, climb, start turn.
-    pub fn row(&self) -> [f64; 5] {
+    /// The square of the start turn's excess over [`START_KNEE`], radians².
+    pub fn start_excess_sq(&self) -> f64 {
+        let x = (self.start_turn_rad - START_KNEE).max(0.0);
+        x * x
+    }
+
+    /// The regressors of the model: profile time, 1, turn, climb, start turn, the start
+    /// turn's squared excess.
+    pub fn row(&self) -> [f64; 6] {
         [
             self.profile_s,
             1.0,
             self.turn_rad,
             self.climb_m,
             self.start_turn_rad,
+            self.start_excess_sq(),
         ]
     }
 }
@@ -190,8 +208,16 @@ pub struct Fit {
     /// before it).
     #[serde(default)]
     pub delta: f64,
+    /// Seconds per radian² of the start turn's excess over [`START_KNEE`] (0 in a file made
+    /// before it).
+    #[serde(default)]
+    pub epsilon: f64,
     /// Trips fitted.
     pub trips: usize,
+    /// Trips of the fitted set the outlier screen left out ([`fit::screened_fit`]; their
+    /// residuals still count in `fit_residuals`).
+    #[serde(default)]
+    pub excluded: usize,
     /// Residuals on the fitted trips (abstract level without / with calibration against the
     /// concrete level).
     pub fit_residuals: Residuals,
@@ -324,7 +350,7 @@ impl Calibration {
             f.check()?;
         }
         for f in &c.fits {
-            let ok = [f.alpha, f.beta, f.kappa, f.gamma, f.delta]
+            let ok = [f.alpha, f.beta, f.kappa, f.gamma, f.delta, f.epsilon]
                 .iter()
                 .all(|x| x.is_finite());
             if !ok {
@@ -344,7 +370,7 @@ impl Calibration {
             "# Vitro calibration: the abstract levels' trip times fitted to the {} level.\n\
              # Model, per entity type and abstract level:\n\
              #   T = alpha * T_profile + beta + kappa * turn_rad + gamma * climb_m\n\
-             #       + delta * start_turn_rad\n\
+             #       + delta * start_turn_rad + epsilon * max(0, start_turn_rad - pi/4)^2\n\
              # [[aircraft]]: the lattice's flight times fitted to the kinematic (fixed-wing)\n\
              # and dynamic (helicopter) levels: T = alpha * T_profile + beta * rest\n\
              #   + kappa * turn_rad + gamma * vertical_m + delta * start_turn_rad.\n\
@@ -418,6 +444,7 @@ impl Fit {
             + self.kappa * r[2]
             + self.gamma * r[3]
             + self.delta * r[4]
+            + self.epsilon * r[5]
     }
 }
 

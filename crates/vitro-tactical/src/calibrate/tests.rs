@@ -22,7 +22,9 @@ fn sample() -> Calibration {
             kappa: 0.5,
             gamma: 0.01,
             delta: 0.7,
+            epsilon: 5.5,
             trips: 3,
+            excluded: 0,
             fit_residuals: Residuals::of(&[10.0, 20.0], &[9.0, 18.0], &[10.5, 19.0]),
             held_out: Residuals::default(),
         }],
@@ -109,4 +111,97 @@ fn a_file_without_squad_fits_still_reads() {
     let text = c.to_toml().unwrap();
     assert!(!text.lines().any(|l| l == "[[squad]]"));
     assert_eq!(Calibration::parse(&text).unwrap(), c);
+}
+
+#[test]
+fn the_start_turn_costs_nothing_extra_below_the_knee_and_its_square_above() {
+    let f = |turn: f64| Features {
+        profile_s: 60.0,
+        start_turn_rad: turn,
+        ..Features::default()
+    };
+    assert_eq!(f(0.0).start_excess_sq(), 0.0);
+    assert_eq!(f(START_KNEE - 0.1).start_excess_sq(), 0.0);
+    let right = f(std::f64::consts::FRAC_PI_2);
+    assert!((right.start_excess_sq() - START_KNEE * START_KNEE).abs() < 1e-12);
+    assert_eq!(right.row()[5], right.start_excess_sq());
+    // A truck-like fit: a right angle costs epsilon × (π/4)² on top of the linear term.
+    let mut c = sample();
+    c.fits[0].epsilon = 6.0;
+    let fit = &c.fits[0];
+    let extra = fit.predict(&right) - fit.predict(&f(0.0));
+    let want = fit.delta * std::f64::consts::FRAC_PI_2 + 6.0 * START_KNEE * START_KNEE;
+    assert!((extra - want).abs() < 1e-9, "{extra} {want}");
+}
+
+#[test]
+fn least_squares_recovers_the_start_turn_knee_beside_the_linear_terms() {
+    // Trips of a truck-like body: the start-turn cost bends up above 45° (see the
+    // `start_turns` example); a fit with the knee term finds both start-turn terms.
+    let truth = [0.97, 4.5, 0.4, 0.08, 0.3, 6.0];
+    let rows: Vec<[f64; 6]> = (0..40)
+        .map(|i| {
+            let i = f64::from(i);
+            Features {
+                profile_s: 30.0 + 3.3 * i,
+                length_m: 0.0,
+                turn_rad: (i * 1.7) % 9.0,
+                climb_m: (i * 3.1) % 11.0,
+                start_turn_rad: if i as u32 % 2 == 1 {
+                    (i * 0.37) % 2.09
+                } else {
+                    0.0
+                },
+            }
+            .row()
+        })
+        .collect();
+    let y: Vec<f64> = rows
+        .iter()
+        .map(|r| (0..6).map(|j| r[j] * truth[j]).sum())
+        .collect();
+    let p = least_squares(&rows, &y, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    for j in 0..6 {
+        assert!(
+            (p[j] - truth[j]).abs() < 0.05 * truth[j].abs() + 0.05,
+            "{p:?}"
+        );
+    }
+}
+
+#[test]
+fn the_screen_leaves_out_a_trip_that_ran_into_a_wall() {
+    // Forty trips on a known model, one of which took four minutes longer (a body stuck
+    // against a wall while it turned at its start): the plain fit is pulled away, the
+    // screened one is not.
+    let truth = [1.0, 6.0, 0.3, 0.08, 0.4, 2.0];
+    let rows: Vec<[f64; 6]> = (0..20)
+        .map(|i| {
+            let i = f64::from(i);
+            Features {
+                profile_s: 20.0 + 5.0 * i,
+                length_m: 0.0,
+                turn_rad: (i * 1.3) % 7.0,
+                climb_m: (i * 2.9) % 9.0,
+                start_turn_rad: if i as u32 % 2 == 1 {
+                    (i * 0.31) % 2.0
+                } else {
+                    0.0
+                },
+            }
+            .row()
+        })
+        .collect();
+    let mut y: Vec<f64> = rows
+        .iter()
+        .enumerate()
+        .map(|(k, r)| (0..6).map(|j| r[j] * truth[j]).sum::<f64>() + 0.05 * ((k % 3) as f64 - 1.0))
+        .collect();
+    y[9] += 240.0;
+    let plain = least_squares(&rows, &y, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    let (p, excluded) = super::fit::screened_fit(&rows, &y);
+    let err = |q: &[f64; 6]| (0..6).map(|j| (q[j] - truth[j]).abs()).fold(0.0, f64::max);
+    assert_eq!(excluded, 1);
+    assert!(err(&p) < 0.3, "{p:?}");
+    assert!(err(&plain) > 2.0, "{plain:?}");
 }

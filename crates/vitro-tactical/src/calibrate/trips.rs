@@ -17,10 +17,11 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use vitro::env::NodeId;
 
-/// Largest start heading off the way a sample trip is given, radians: a right angle, the
-/// turn onto the next street at a junction where a leg ended (a U-turn is another
-/// manoeuvre, which a turn rate does not describe).
-pub const MAX_START_OFF: f64 = std::f64::consts::FRAC_PI_2;
+/// Largest start heading off the way a sample trip is given, radians: 120°, past the right
+/// angle of a turn onto the next street at a junction where a leg ended, so that the
+/// start-turn terms are fitted over the whole range a mission's legs need (a U-turn is
+/// another manoeuvre, which the model does not describe).
+pub const MAX_START_OFF: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
 
 /// One sample trip.
 #[derive(Copy, Clone, Debug, PartialEq)]
