@@ -71,11 +71,12 @@ pub const SCREEN_SIGMAS: f64 = 5.0;
 /// from the median residual, fit the rest again; up to three rounds, until the kept set
 /// stands. A body that runs into a wall while it turns at its start takes minutes where
 /// the others take seconds: one such trip would otherwise set the start-turn terms for all.
+/// On the kept trips the start-turn knee (`epsilon`) then stays only where it predicts trips
+/// it was not fitted on better than the model without it ([`knee_predicts`]); else it is 0.
 /// Returns the parameters and how many trips were left out.
 pub fn screened_fit(x: &[[f64; 6]], y: &[f64]) -> ([f64; 6], usize) {
-    let prior = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     let mut keep = vec![true; x.len()];
-    let mut p = least_squares(x, y, prior);
+    let mut p = least_squares(x, y, PRIOR);
     for _ in 0..3 {
         let res: Vec<f64> = x
             .iter()
@@ -90,20 +91,63 @@ pub fn screened_fit(x: &[[f64; 6]], y: &[f64]) -> ([f64; 6], usize) {
             break;
         }
         keep = next;
-        let (xs, ys): (Vec<[f64; 6]>, Vec<f64>) = x
-            .iter()
-            .zip(y)
-            .zip(&keep)
-            .filter(|(_, k)| **k)
-            .map(|((r, yi), _)| (*r, *yi))
-            .unzip();
-        p = least_squares(&xs, &ys, prior);
+        let (xs, ys) = kept(x, y, &keep);
+        p = least_squares(&xs, &ys, PRIOR);
+    }
+    let (xs, ys) = kept(x, y, &keep);
+    if !knee_predicts(&xs, &ys) {
+        p = least_squares(&without_knee(&xs), &ys, PRIOR);
     }
     (p, keep.iter().filter(|k| !**k).count())
 }
 
+/// The rows of `x` and `y` whose `keep` is true.
+fn kept(x: &[[f64; 6]], y: &[f64], keep: &[bool]) -> (Vec<[f64; 6]>, Vec<f64>) {
+    x.iter()
+        .zip(y)
+        .zip(keep)
+        .filter(|(_, k)| **k)
+        .map(|((r, yi), _)| (*r, *yi))
+        .unzip()
+}
+
+/// The trip model's neutral parameters, towards which [`least_squares`] pulls lightly.
+const PRIOR: [f64; 6] = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+
+/// Whether the start-turn knee (the last column) predicts trips left out of the fit better
+/// than the model without it: the leave-one-out mean squared error of both. A term the data
+/// do not support (a knee fitted to a few noisy starts) predicts worse than none.
+pub fn knee_predicts(x: &[[f64; 6]], y: &[f64]) -> bool {
+    loo_mse(x, y) < loo_mse(&without_knee(x), y)
+}
+
+/// The rows with the knee's column set to 0 (its parameter then stays at its prior, 0).
+fn without_knee(x: &[[f64; 6]]) -> Vec<[f64; 6]> {
+    x.iter()
+        .map(|r| [r[0], r[1], r[2], r[3], r[4], 0.0])
+        .collect()
+}
+
+/// The mean squared error of predicting each row from a fit of all the others.
+fn loo_mse(x: &[[f64; 6]], y: &[f64]) -> f64 {
+    let n = x.len();
+    if n < 2 {
+        return 0.0;
+    }
+    let total: f64 = (0..n)
+        .map(|i| {
+            let keep: Vec<bool> = (0..n).map(|j| j != i).collect();
+            let (xs, ys) = kept(x, y, &keep);
+            let p = least_squares(&xs, &ys, PRIOR);
+            let e = y[i] - x[i].iter().zip(&p).map(|(a, b)| a * b).sum::<f64>();
+            e * e
+        })
+        .sum();
+    total / n as f64
+}
+
 /// The median of `v` (0 for an empty list).
-fn median(mut v: Vec<f64>) -> f64 {
+pub(super) fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
         return 0.0;
     }

@@ -186,7 +186,7 @@ pub fn runs_needed(trips: &[Trip]) -> usize {
 /// The median over the walks that arrived at both levels of the ratio of their concrete
 /// to their abstract time (1 with none).
 pub fn median_ratio(conc: &[Option<f64>], abs: &[Option<f64>]) -> f64 {
-    let mut r: Vec<f64> = conc
+    let r: Vec<f64> = conc
         .iter()
         .zip(abs)
         .filter_map(|(x, y)| match (x, y) {
@@ -197,13 +197,7 @@ pub fn median_ratio(conc: &[Option<f64>], abs: &[Option<f64>]) -> f64 {
     if r.is_empty() {
         return 1.0;
     }
-    r.sort_by(f64::total_cmp);
-    let n = r.len();
-    if n % 2 == 1 {
-        r[n / 2]
-    } else {
-        0.5 * (r[n / 2 - 1] + r[n / 2])
-    }
+    super::fit::median(r)
 }
 
 /// The residuals of the walks that arrived at every level: concrete times, abstract ones

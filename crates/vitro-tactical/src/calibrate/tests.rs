@@ -205,3 +205,58 @@ fn the_screen_leaves_out_a_trip_that_ran_into_a_wall() {
     assert!(err(&p) < 0.3, "{p:?}");
     assert!(err(&plain) > 2.0, "{plain:?}");
 }
+
+/// Forty sample rows with start turns spread over 0 to 2 rad on every other trip, and times
+/// from `truth` with a deterministic jitter of up to `noise` seconds.
+fn knee_sample(truth: [f64; 6], noise: f64) -> (Vec<[f64; 6]>, Vec<f64>) {
+    let rows: Vec<[f64; 6]> = (0..40)
+        .map(|i| {
+            let i = f64::from(i);
+            Features {
+                profile_s: 20.0 + 4.0 * i,
+                length_m: 0.0,
+                turn_rad: (i * 1.3) % 7.0,
+                climb_m: (i * 2.9) % 9.0,
+                start_turn_rad: if i as u32 % 2 == 1 {
+                    (i * 0.37) % 2.0
+                } else {
+                    0.0
+                },
+            }
+            .row()
+        })
+        .collect();
+    let y = rows
+        .iter()
+        .enumerate()
+        .map(|(k, r)| {
+            let jitter = noise * ((((k * 7919) % 13) as f64) / 6.0 - 1.0);
+            (0..6).map(|j| r[j] * truth[j]).sum::<f64>() + jitter
+        })
+        .collect();
+    (rows, y)
+}
+
+#[test]
+fn the_knee_stays_where_it_predicts_left_out_trips() {
+    // A real knee (4 s/rad² past 45°) under 1 s of jitter: kept, and recovered.
+    let (rows, y) = knee_sample([1.0, 5.0, 0.3, 0.08, 1.0, 4.0], 1.0);
+    assert!(super::fit::knee_predicts(&rows, &y));
+    let (p, excluded) = super::fit::screened_fit(&rows, &y);
+    assert_eq!(excluded, 0);
+    assert!((p[5] - 4.0).abs() < 1.0, "{p:?}");
+}
+
+#[test]
+fn a_knee_the_data_do_not_show_is_left_at_zero() {
+    // No knee in the truth, 1.5 s of jitter: a fitted knee would only follow the jitter.
+    let (rows, y) = knee_sample([1.0, 5.0, 0.3, 0.08, 1.5, 0.0], 1.5);
+    assert!(!super::fit::knee_predicts(&rows, &y));
+    let (p, _) = super::fit::screened_fit(&rows, &y);
+    assert_eq!(p[5], 0.0, "{p:?}");
+    let plain = least_squares(&rows, &y, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    assert_ne!(
+        plain[5], 0.0,
+        "the plain fit does put a knee on the jitter: {plain:?}"
+    );
+}
