@@ -139,27 +139,7 @@ fn least_squares_recovers_the_start_turn_knee_beside_the_linear_terms() {
     // Trips of a truck-like body: the start-turn cost bends up above 45° (see the
     // `start_turns` example); a fit with the knee term finds both start-turn terms.
     let truth = [0.97, 4.5, 0.4, 0.08, 0.3, 6.0];
-    let rows: Vec<[f64; 6]> = (0..40)
-        .map(|i| {
-            let i = f64::from(i);
-            Features {
-                profile_s: 30.0 + 3.3 * i,
-                length_m: 0.0,
-                turn_rad: (i * 1.7) % 9.0,
-                climb_m: (i * 3.1) % 11.0,
-                start_turn_rad: if i as u32 % 2 == 1 {
-                    (i * 0.37) % 2.09
-                } else {
-                    0.0
-                },
-            }
-            .row()
-        })
-        .collect();
-    let y: Vec<f64> = rows
-        .iter()
-        .map(|r| (0..6).map(|j| r[j] * truth[j]).sum())
-        .collect();
+    let (rows, y) = trip_sample(40, truth, 0.0);
     let p = least_squares(&rows, &y, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
     for j in 0..6 {
         assert!(
@@ -171,32 +151,11 @@ fn least_squares_recovers_the_start_turn_knee_beside_the_linear_terms() {
 
 #[test]
 fn the_screen_leaves_out_a_trip_that_ran_into_a_wall() {
-    // Forty trips on a known model, one of which took four minutes longer (a body stuck
+    // Twenty trips on a known model, one of which took four minutes longer (a body stuck
     // against a wall while it turned at its start): the plain fit is pulled away, the
     // screened one is not.
     let truth = [1.0, 6.0, 0.3, 0.08, 0.4, 2.0];
-    let rows: Vec<[f64; 6]> = (0..20)
-        .map(|i| {
-            let i = f64::from(i);
-            Features {
-                profile_s: 20.0 + 5.0 * i,
-                length_m: 0.0,
-                turn_rad: (i * 1.3) % 7.0,
-                climb_m: (i * 2.9) % 9.0,
-                start_turn_rad: if i as u32 % 2 == 1 {
-                    (i * 0.31) % 2.0
-                } else {
-                    0.0
-                },
-            }
-            .row()
-        })
-        .collect();
-    let mut y: Vec<f64> = rows
-        .iter()
-        .enumerate()
-        .map(|(k, r)| (0..6).map(|j| r[j] * truth[j]).sum::<f64>() + 0.05 * ((k % 3) as f64 - 1.0))
-        .collect();
+    let (rows, mut y) = trip_sample(20, truth, 0.05);
     y[9] += 240.0;
     let plain = least_squares(&rows, &y, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
     let (p, excluded) = super::fit::screened_fit(&rows, &y);
@@ -206,10 +165,10 @@ fn the_screen_leaves_out_a_trip_that_ran_into_a_wall() {
     assert!(err(&plain) > 2.0, "{plain:?}");
 }
 
-/// Forty sample rows with start turns spread over 0 to 2 rad on every other trip, and times
+/// `n` sample trips with start turns spread over 0 to 2 rad on every other trip, and times
 /// from `truth` with a deterministic jitter of up to `noise` seconds.
-fn knee_sample(truth: [f64; 6], noise: f64) -> (Vec<[f64; 6]>, Vec<f64>) {
-    let rows: Vec<[f64; 6]> = (0..40)
+fn trip_sample(n: u32, truth: [f64; 6], noise: f64) -> (Vec<[f64; 6]>, Vec<f64>) {
+    let rows: Vec<[f64; 6]> = (0..n)
         .map(|i| {
             let i = f64::from(i);
             Features {
@@ -240,7 +199,7 @@ fn knee_sample(truth: [f64; 6], noise: f64) -> (Vec<[f64; 6]>, Vec<f64>) {
 #[test]
 fn the_knee_stays_where_it_predicts_left_out_trips() {
     // A real knee (4 s/rad² past 45°) under 1 s of jitter: kept, and recovered.
-    let (rows, y) = knee_sample([1.0, 5.0, 0.3, 0.08, 1.0, 4.0], 1.0);
+    let (rows, y) = trip_sample(40, [1.0, 5.0, 0.3, 0.08, 1.0, 4.0], 1.0);
     assert!(super::fit::knee_predicts(&rows, &y));
     let (p, excluded) = super::fit::screened_fit(&rows, &y);
     assert_eq!(excluded, 0);
@@ -250,7 +209,7 @@ fn the_knee_stays_where_it_predicts_left_out_trips() {
 #[test]
 fn a_knee_the_data_do_not_show_is_left_at_zero() {
     // No knee in the truth, 1.5 s of jitter: a fitted knee would only follow the jitter.
-    let (rows, y) = knee_sample([1.0, 5.0, 0.3, 0.08, 1.5, 0.0], 1.5);
+    let (rows, y) = trip_sample(40, [1.0, 5.0, 0.3, 0.08, 1.5, 0.0], 1.5);
     assert!(!super::fit::knee_predicts(&rows, &y));
     let (p, _) = super::fit::screened_fit(&rows, &y);
     assert_eq!(p[5], 0.0, "{p:?}");
