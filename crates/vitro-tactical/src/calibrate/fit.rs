@@ -3,6 +3,7 @@
 //! trip again at the calibrated abstract levels and record the residuals, on the fitted
 //! trips and on the held-out ones.
 
+use super::residuals::median;
 use super::trips::{self, Trip, levels, par_map};
 use super::{Calibration, FORMAT, Features, Fit, Residuals, TripRecord, entity_key};
 use crate::check::{CheckError, Setup};
@@ -144,20 +145,6 @@ fn loo_mse(x: &[[f64; 6]], y: &[f64]) -> f64 {
         })
         .sum();
     total / n as f64
-}
-
-/// The median of `v` (0 for an empty list).
-pub(super) fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
 }
 
 /// Gaussian elimination with partial pivoting.

@@ -197,7 +197,7 @@ pub fn median_ratio(conc: &[Option<f64>], abs: &[Option<f64>]) -> f64 {
     if r.is_empty() {
         return 1.0;
     }
-    super::fit::median(r)
+    super::residuals::median(r)
 }
 
 /// The residuals of the walks that arrived at every level: concrete times, abstract ones
