@@ -1,6 +1,6 @@
 //! The hold benchmark: the event core's throughput with a steady number of pending events.
 //!
-//! `cargo run --release -p vitro --example hold -- PENDING EVENTS [--no-payload-trace]`
+//! `cargo run --release -p vitro --example hold -- PENDING EVENTS [--no-payload-trace] [--only PART]`
 //!
 //! PENDING events are queued at start, spread over [`AGENTS`] agents at times drawn from
 //! Exp(mean 1 s). Every fired event's handler schedules one new event for its agent at
@@ -20,6 +20,10 @@
 //! Output, one per line: `events/s: X` (the simulation), `floor events/s: Y`, `peak RSS MiB: Z`
 //! (the simulation's VmHWM), `ratio: X/Y`, then the floor's peak memory, the bare queue's rate,
 //! and the three rates per second of CPU time (steadier than wall time on a loaded machine).
+//!
+//! `--only simulation`, `--only floor` or `--only queue` runs that part alone and prints its
+//! rate: for counting one part's instructions and cache misses (`valgrind --tool=cachegrind`),
+//! which a loaded machine cannot disturb.
 
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -239,9 +243,20 @@ fn reset_peak_rss() -> bool {
 }
 
 fn main() -> ExitCode {
+    const USAGE: &str =
+        "usage: hold PENDING EVENTS [--no-payload-trace] [--only simulation|floor|queue]";
     let args: Vec<String> = std::env::args().skip(1).collect();
     let trace_payloads = !args.iter().any(|a| a == "--no-payload-trace");
-    let nums: Vec<&String> = args.iter().filter(|a| !a.starts_with("--")).collect();
+    let only = args
+        .iter()
+        .position(|a| a == "--only")
+        .map(|i| args.get(i + 1).map(String::as_str));
+    let nums: Vec<&String> = args
+        .iter()
+        .enumerate()
+        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || args[i - 1] != "--only"))
+        .map(|(_, a)| a)
+        .collect();
     let parse = |i: usize, default: u64| -> Result<u64, String> {
         nums.get(i)
             .map_or(Ok(default), |s| s.parse().map_err(|e| format!("{s}: {e}")))
@@ -249,14 +264,33 @@ fn main() -> ExitCode {
     let (pending, events) = match (parse(0, 1000), parse(1, 2_000_000)) {
         (Ok(p), Ok(e)) if p > 0 => (p, e),
         (Err(e), _) | (_, Err(e)) => {
-            eprintln!("usage: hold PENDING EVENTS [--no-payload-trace] ({e})");
+            eprintln!("{USAGE} ({e})");
             return ExitCode::FAILURE;
         }
         _ => {
-            eprintln!("usage: hold PENDING EVENTS [--no-payload-trace] (PENDING must be > 0)");
+            eprintln!("{USAGE} (PENDING must be > 0)");
             return ExitCode::FAILURE;
         }
     };
+    if let Some(part) = only {
+        let run = match part {
+            Some("simulation") => run_simulation(pending, events, trace_payloads),
+            Some("floor") => Ok(run_floor(pending, events)),
+            Some("queue") => run_bare_queue(pending, events),
+            _ => Err(format!("--only takes simulation, floor or queue; {USAGE}")),
+        };
+        return match run {
+            Ok((time, end)) => {
+                println!("events/s: {:.0}", events as f64 / time.wall);
+                println!("end: {end}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("hold: {e}");
+                ExitCode::FAILURE
+            }
+        };
+    }
 
     let (sim_time, sim_end) = match run_simulation(pending, events, trace_payloads) {
         Ok(r) => r,
