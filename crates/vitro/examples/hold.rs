@@ -1,6 +1,7 @@
 //! The hold benchmark: the event core's throughput with a steady number of pending events.
 //!
-//! `cargo run --release -p vitro --example hold -- PENDING EVENTS [--no-payload-trace] [--only PART]`
+//! `cargo run --release -p vitro --example hold -- PENDING EVENTS [--no-payload-trace]
+//! [--slice N] [--only PART]`
 //!
 //! PENDING events are queued at start, spread over [`AGENTS`] agents at times drawn from
 //! Exp(mean 1 s). Every fired event's handler schedules one new event for its agent at
@@ -10,20 +11,27 @@
 //! through its [`Context`]) in the Simulation's default configuration (event payloads hashed
 //! into the trace; `--no-payload-trace` turns that off).
 //!
-//! The same run is then repeated on a bare `std::collections::BinaryHeap` of
+//! The same events are fired on a bare `std::collections::BinaryHeap` of
 //! `(Reverse((time_ns, seq)), payload)` with the same random numbers: the floor, with no
 //! driver, no trace and no cancellation handles. Its payload is what the model's events carry
-//! (the agent and the event, 16 bytes). Last, the run is repeated on a bare [`EventQueue`]
-//! with that payload, to tell the queue's cost from the driver's. All three runs fire the same
-//! events in the same order, which the benchmark checks (same final time).
+//! (the agent and the event, 16 bytes). And on a bare [`EventQueue`] with that payload, to
+//! tell the queue's cost from the driver's. All three fire the same events in the same order,
+//! which the benchmark checks (same final time).
+//!
+//! The three run side by side: set up one after the other, then in turn, SLICE events at a
+//! time (default 200,000; the order of the three rotates every slice), so that a change of
+//! load on the machine falls on all three alike. Each part's time is the sum of its slices.
 //!
 //! Output, one per line: `events/s: X` (the simulation), `floor events/s: Y`, `peak RSS MiB: Z`
-//! (the simulation's VmHWM), `ratio: X/Y`, then the floor's peak memory, the bare queue's rate,
-//! and the three rates per second of CPU time (steadier than wall time on a loaded machine).
+//! (the simulation's VmHWM after its set-up and first slice, before the others exist),
+//! `ratio: X/Y`, then the floor's own peak memory (the growth of VmHWM over its set-up and
+//! first slice), the bare queue's rate, the three rates per second of CPU time (steadier
+//! than wall time on a loaded machine), the ratio of every slice per CPU second and their
+//! median (the figure least moved by a burst of load on the machine).
 //!
 //! `--only simulation`, `--only floor` or `--only queue` runs that part alone and prints its
-//! rate: for counting one part's instructions and cache misses (`valgrind --tool=cachegrind`),
-//! which a loaded machine cannot disturb.
+//! rate: for counting one part's instructions and cache misses (`valgrind --tool=cachegrind`,
+//! `scripts/hold_counts.py`), which a loaded machine cannot disturb.
 
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -75,33 +83,43 @@ fn initial_events(pending: u64) -> impl Iterator<Item = (u32, u64)> {
     (0..pending).map(move |i| ((i % u64::from(AGENTS)) as u32, exp_ns(&mut rng)))
 }
 
-/// Runs the hold model through the simulation driver. Returns its duration and final time.
-fn run_simulation(
-    pending: u64,
-    events: u64,
-    trace_payloads: bool,
-) -> Result<(Elapsed, SimTime), String> {
-    let mut sim = Simulation::<HoldModel>::new((), SEED);
-    sim.set_trace_payloads(trace_payloads);
-    let agents: Vec<EntityId> = (0..AGENTS)
-        .map(|i| sim.add_agent(format!("holder-{i}"), Holder))
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
-    for (a, t) in initial_events(pending) {
-        sim.schedule(
-            SimTime::from_nanos(t),
-            Target::Entity(agents[a as usize]),
-            0,
-        )
-        .map_err(|e| e.to_string())?;
+/// The hold model through the simulation driver.
+struct SimPart {
+    sim: Simulation<HoldModel>,
+}
+
+impl SimPart {
+    fn new(pending: u64, trace_payloads: bool) -> Result<Self, String> {
+        let mut sim = Simulation::<HoldModel>::new((), SEED);
+        sim.set_trace_payloads(trace_payloads);
+        let agents: Vec<EntityId> = (0..AGENTS)
+            .map(|i| sim.add_agent(format!("holder-{i}"), Holder))
+            .collect::<Result<_, _>>()
+            .map_err(|e| e.to_string())?;
+        for (a, t) in initial_events(pending) {
+            sim.schedule(
+                SimTime::from_nanos(t),
+                Target::Entity(agents[a as usize]),
+                0,
+            )
+            .map_err(|e| e.to_string())?;
+        }
+        Ok(SimPart { sim })
     }
-    let watch = Stopwatch::start();
-    let stop = sim.run(SimTime::MAX, |s| s.events_fired() >= events);
-    let secs = watch.stop();
-    if stop != StopReason::Condition {
-        return Err(format!("the run stopped early: {stop:?}"));
+
+    /// Fires `n` more events.
+    fn advance(&mut self, n: u64) -> Result<(), String> {
+        let target = self.sim.events_fired() + n;
+        let stop = self.sim.run(SimTime::MAX, |s| s.events_fired() >= target);
+        if stop != StopReason::Condition {
+            return Err(format!("the run stopped early: {stop:?}"));
+        }
+        Ok(())
     }
-    Ok((secs, sim.now()))
+
+    fn now(&self) -> SimTime {
+        self.sim.now()
+    }
 }
 
 /// The payload the floor carries: what the model's events carry (a target and the event).
@@ -129,66 +147,123 @@ impl Ord for FloorEntry {
     }
 }
 
-/// The same hold model on a bare binary heap. Returns its duration and final time.
-fn run_floor(pending: u64, events: u64) -> (Elapsed, SimTime) {
-    let streams = vitro::rng::RngStreams::new(SEED);
-    // Simulation entity ids are 0..AGENTS in creation order: the same streams as the agents'.
-    let mut rngs: Vec<ChaCha8Rng> = (0..AGENTS)
-        .map(|i| streams.fresh(Owner::Entity(EntityId(i)), "hold"))
-        .collect();
-    let mut heap = BinaryHeap::new();
-    let mut seq = 0u64;
-    for (agent, t) in initial_events(pending) {
-        heap.push(FloorEntry(Reverse((t, seq)), FloorEvent { agent, hops: 0 }));
-        seq += 1;
-    }
-    let mut now = 0;
-    let watch = Stopwatch::start();
-    for _ in 0..events {
-        let Some(FloorEntry(Reverse((t, _)), ev)) = heap.pop() else {
-            break;
-        };
-        now = t;
-        let dt = exp_ns(&mut rngs[ev.agent as usize]);
-        let next = FloorEvent {
-            agent: ev.agent,
-            hops: ev.hops + 1,
-        };
-        heap.push(FloorEntry(Reverse((t + dt, seq)), next));
-        seq += 1;
-    }
-    let secs = watch.stop();
-    (secs, SimTime::from_nanos(now))
+/// The same hold model on a bare binary heap.
+struct FloorPart {
+    rngs: Vec<ChaCha8Rng>,
+    heap: BinaryHeap<FloorEntry>,
+    seq: u64,
+    now: u64,
 }
 
-/// The same hold model on a bare [`EventQueue`] (no driver). Returns its duration and final time.
-fn run_bare_queue(pending: u64, events: u64) -> Result<(Elapsed, SimTime), String> {
-    let streams = vitro::rng::RngStreams::new(SEED);
-    let mut rngs: Vec<ChaCha8Rng> = (0..AGENTS)
-        .map(|i| streams.fresh(Owner::Entity(EntityId(i)), "hold"))
-        .collect();
-    let mut queue = EventQueue::new();
-    for (agent, t) in initial_events(pending) {
-        queue
-            .push(SimTime::from_nanos(t), FloorEvent { agent, hops: 0 })
-            .map_err(|e| e.to_string())?;
+impl FloorPart {
+    fn new(pending: u64) -> Self {
+        let streams = vitro::rng::RngStreams::new(SEED);
+        // Simulation entity ids are 0..AGENTS in creation order: the same streams as the agents'.
+        let rngs: Vec<ChaCha8Rng> = (0..AGENTS)
+            .map(|i| streams.fresh(Owner::Entity(EntityId(i)), "hold"))
+            .collect();
+        let mut heap = BinaryHeap::new();
+        let mut seq = 0u64;
+        for (agent, t) in initial_events(pending) {
+            heap.push(FloorEntry(Reverse((t, seq)), FloorEvent { agent, hops: 0 }));
+            seq += 1;
+        }
+        FloorPart {
+            rngs,
+            heap,
+            seq,
+            now: 0,
+        }
     }
-    let watch = Stopwatch::start();
-    for _ in 0..events {
-        let Some(p) = queue.pop() else {
-            break;
-        };
-        let dt = exp_ns(&mut rngs[p.payload.agent as usize]);
-        let next = FloorEvent {
-            agent: p.payload.agent,
-            hops: p.payload.hops + 1,
-        };
-        queue
-            .push(p.time + SimDuration::from_nanos(dt), next)
-            .map_err(|e| e.to_string())?;
+
+    /// Fires `n` more events.
+    fn advance(&mut self, n: u64) {
+        for _ in 0..n {
+            let Some(FloorEntry(Reverse((t, _)), ev)) = self.heap.pop() else {
+                break;
+            };
+            self.now = t;
+            let dt = exp_ns(&mut self.rngs[ev.agent as usize]);
+            let next = FloorEvent {
+                agent: ev.agent,
+                hops: ev.hops + 1,
+            };
+            self.heap
+                .push(FloorEntry(Reverse((t + dt, self.seq)), next));
+            self.seq += 1;
+        }
     }
-    let secs = watch.stop();
-    Ok((secs, queue.now()))
+
+    fn now(&self) -> SimTime {
+        SimTime::from_nanos(self.now)
+    }
+}
+
+/// The same hold model on a bare [`EventQueue`] (no driver).
+struct QueuePart {
+    rngs: Vec<ChaCha8Rng>,
+    queue: EventQueue<FloorEvent>,
+}
+
+impl QueuePart {
+    fn new(pending: u64) -> Result<Self, String> {
+        let streams = vitro::rng::RngStreams::new(SEED);
+        let rngs: Vec<ChaCha8Rng> = (0..AGENTS)
+            .map(|i| streams.fresh(Owner::Entity(EntityId(i)), "hold"))
+            .collect();
+        let mut queue = EventQueue::new();
+        for (agent, t) in initial_events(pending) {
+            queue
+                .push(SimTime::from_nanos(t), FloorEvent { agent, hops: 0 })
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(QueuePart { rngs, queue })
+    }
+
+    /// Fires `n` more events.
+    fn advance(&mut self, n: u64) -> Result<(), String> {
+        for _ in 0..n {
+            let Some(p) = self.queue.pop() else {
+                break;
+            };
+            let dt = exp_ns(&mut self.rngs[p.payload.agent as usize]);
+            let next = FloorEvent {
+                agent: p.payload.agent,
+                hops: p.payload.hops + 1,
+            };
+            self.queue
+                .push(p.time + SimDuration::from_nanos(dt), next)
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+
+    fn now(&self) -> SimTime {
+        self.queue.now()
+    }
+}
+
+/// The three parts, in the order of [`PARTS`].
+struct Parts {
+    sim: SimPart,
+    floor: FloorPart,
+    queue: QueuePart,
+}
+
+/// The parts' names, for `--only`.
+const PARTS: [&str; 3] = ["simulation", "floor", "queue"];
+
+impl Parts {
+    /// Fires `n` more events of part `i` and returns how long that took.
+    fn advance(&mut self, i: usize, n: u64) -> Result<Elapsed, String> {
+        let watch = Stopwatch::start();
+        match i {
+            0 => self.sim.advance(n)?,
+            1 => self.floor.advance(n),
+            _ => self.queue.advance(n)?,
+        }
+        Ok(watch.stop())
+    }
 }
 
 /// A stopwatch of wall time and of the thread's CPU time (Linux; the CPU time shows what a
@@ -203,6 +278,20 @@ struct Stopwatch {
 struct Elapsed {
     wall: f64,
     cpu: Option<f64>,
+}
+
+impl Elapsed {
+    const ZERO: Elapsed = Elapsed {
+        wall: 0.0,
+        cpu: Some(0.0),
+    };
+
+    fn add(self, o: Elapsed) -> Elapsed {
+        Elapsed {
+            wall: self.wall + o.wall,
+            cpu: self.cpu.zip(o.cpu).map(|(a, b)| a + b),
+        }
+    }
 }
 
 /// The calling thread's CPU time in nanoseconds, from `/proc/thread-self/schedstat`.
@@ -229,12 +318,22 @@ impl Stopwatch {
     }
 }
 
-/// The process's peak resident memory (VmHWM) in MiB.
-fn peak_rss_mib() -> Option<f64> {
+/// A memory figure of this process from `/proc/self/status` (Linux), in MiB.
+fn status_mib(key: &str) -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let line = status.lines().find(|l| l.starts_with(key))?;
     let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib / 1024.0)
+}
+
+/// The process's peak resident memory (VmHWM) in MiB.
+fn peak_rss_mib() -> Option<f64> {
+    status_mib("VmHWM:")
+}
+
+/// The process's resident memory now (VmRSS) in MiB.
+fn current_rss_mib() -> Option<f64> {
+    status_mib("VmRSS:")
 }
 
 /// Resets the peak-RSS mark (Linux); false where that is not possible.
@@ -242,76 +341,150 @@ fn reset_peak_rss() -> bool {
     std::fs::write("/proc/self/clear_refs", "5").is_ok()
 }
 
+/// The command line.
+struct Args {
+    pending: u64,
+    events: u64,
+    slice: u64,
+    trace_payloads: bool,
+    only: Option<usize>,
+}
+
+const USAGE: &str = "usage: hold PENDING EVENTS [--no-payload-trace] [--slice N] \
+                     [--only simulation|floor|queue]";
+
+fn parse_args(args: &[String]) -> Result<Args, String> {
+    let mut nums = Vec::new();
+    let (mut slice, mut trace_payloads, mut only) = (200_000, true, None);
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--no-payload-trace" => trace_payloads = false,
+            "--slice" => {
+                let v = it.next().ok_or("--slice takes a number")?;
+                slice = v.parse().map_err(|e| format!("--slice {v}: {e}"))?;
+            }
+            "--only" => {
+                let v = it.next().map_or("", String::as_str);
+                only = Some(
+                    PARTS
+                        .iter()
+                        .position(|p| *p == v)
+                        .ok_or("--only takes simulation, floor or queue")?,
+                );
+            }
+            _ if a.starts_with("--") => return Err(format!("unknown option {a}")),
+            _ => nums.push(a.parse::<u64>().map_err(|e| format!("{a}: {e}"))?),
+        }
+    }
+    let pending = nums.first().copied().unwrap_or(1000);
+    let events = nums.get(1).copied().unwrap_or(2_000_000);
+    if pending == 0 || slice == 0 || nums.len() > 2 {
+        return Err("PENDING and the slice must be > 0, and at most two numbers".into());
+    }
+    Ok(Args {
+        pending,
+        events,
+        slice,
+        trace_payloads,
+        only,
+    })
+}
+
 fn main() -> ExitCode {
-    const USAGE: &str =
-        "usage: hold PENDING EVENTS [--no-payload-trace] [--only simulation|floor|queue]";
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let trace_payloads = !args.iter().any(|a| a == "--no-payload-trace");
-    let only = args
-        .iter()
-        .position(|a| a == "--only")
-        .map(|i| args.get(i + 1).map(String::as_str));
-    let nums: Vec<&String> = args
-        .iter()
-        .enumerate()
-        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || args[i - 1] != "--only"))
-        .map(|(_, a)| a)
-        .collect();
-    let parse = |i: usize, default: u64| -> Result<u64, String> {
-        nums.get(i)
-            .map_or(Ok(default), |s| s.parse().map_err(|e| format!("{s}: {e}")))
-    };
-    let (pending, events) = match (parse(0, 1000), parse(1, 2_000_000)) {
-        (Ok(p), Ok(e)) if p > 0 => (p, e),
-        (Err(e), _) | (_, Err(e)) => {
+    let a = match parse_args(&args) {
+        Ok(a) => a,
+        Err(e) => {
             eprintln!("{USAGE} ({e})");
             return ExitCode::FAILURE;
         }
-        _ => {
-            eprintln!("{USAGE} (PENDING must be > 0)");
-            return ExitCode::FAILURE;
-        }
     };
-    if let Some(part) = only {
-        let run = match part {
-            Some("simulation") => run_simulation(pending, events, trace_payloads),
-            Some("floor") => Ok(run_floor(pending, events)),
-            Some("queue") => run_bare_queue(pending, events),
-            _ => Err(format!("--only takes simulation, floor or queue; {USAGE}")),
-        };
-        return match run {
-            Ok((time, end)) => {
-                println!("events/s: {:.0}", events as f64 / time.wall);
-                println!("end: {end}");
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("hold: {e}");
-                ExitCode::FAILURE
-            }
-        };
+    match run(&a) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("hold: {e}");
+            ExitCode::FAILURE
+        }
     }
+}
 
-    let (sim_time, sim_end) = match run_simulation(pending, events, trace_payloads) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("hold: {e}");
-            return ExitCode::FAILURE;
+/// Runs one part alone (`--only`): its rate and final time.
+fn run_only(a: &Args, part: usize) -> Result<bool, String> {
+    let time = match part {
+        0 => {
+            let mut p = SimPart::new(a.pending, a.trace_payloads)?;
+            let w = Stopwatch::start();
+            p.advance(a.events)?;
+            (w.stop(), p.now())
+        }
+        1 => {
+            let mut p = FloorPart::new(a.pending);
+            let w = Stopwatch::start();
+            p.advance(a.events);
+            (w.stop(), p.now())
+        }
+        _ => {
+            let mut p = QueuePart::new(a.pending)?;
+            let w = Stopwatch::start();
+            p.advance(a.events)?;
+            (w.stop(), p.now())
         }
     };
+    println!("events/s: {:.0}", a.events as f64 / time.0.wall);
+    println!("end: {}", time.1);
+    Ok(true)
+}
+
+/// Runs the three parts side by side and prints the figures; false if they disagree.
+fn run(a: &Args) -> Result<bool, String> {
+    if let Some(part) = a.only {
+        return run_only(a, part);
+    }
+    let first = a.slice.min(a.events);
+    let mut spent = [Elapsed::ZERO; 3];
+    let mut slices: Vec<[Elapsed; 3]> = Vec::new();
+    let mut this = [Elapsed::ZERO; 3];
+
+    // Set up each part and run its first slice before the next exists, for its peak memory.
+    let mut sim = SimPart::new(a.pending, a.trace_payloads)?;
+    let w = Stopwatch::start();
+    sim.advance(first)?;
+    this[0] = w.stop();
     let peak = peak_rss_mib();
-    let floor_peak_known = reset_peak_rss();
-    let (floor_time, floor_end) = run_floor(pending, events);
-    let floor_peak = peak_rss_mib().filter(|_| floor_peak_known);
-    let (bare_time, bare_end) = match run_bare_queue(pending, events) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("hold: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
+    let floor_base = reset_peak_rss().then(current_rss_mib).flatten();
+    let mut floor = FloorPart::new(a.pending);
+    let w = Stopwatch::start();
+    floor.advance(first);
+    this[1] = w.stop();
+    let floor_peak = floor_base.zip(peak_rss_mib()).map(|(b, p)| p - b);
+    let mut queue = QueuePart::new(a.pending)?;
+    let w = Stopwatch::start();
+    queue.advance(first)?;
+    this[2] = w.stop();
+    slices.push(this);
+    let mut parts = Parts { sim, floor, queue };
 
-    let ev = events as f64;
+    let mut done = first;
+    while done < a.events {
+        let n = a.slice.min(a.events - done);
+        let k = slices.len();
+        for j in 0..3 {
+            let i = (j + k) % 3;
+            this[i] = parts.advance(i, n)?;
+        }
+        slices.push(this);
+        done += n;
+    }
+    for s in &slices {
+        for i in 0..3 {
+            spent[i] = spent[i].add(s[i]);
+        }
+    }
+    let [sim_time, floor_time, bare_time] = spent;
+
+    let ev = a.events as f64;
     println!("events/s: {:.0}", ev / sim_time.wall);
     println!("floor events/s: {:.0}", ev / floor_time.wall);
     match peak {
@@ -320,7 +493,7 @@ fn main() -> ExitCode {
     }
     println!("ratio: {:.2}", floor_time.wall / sim_time.wall);
     if let Some(p) = floor_peak {
-        println!("floor peak RSS MiB: {p:.1}");
+        println!("floor peak RSS MiB: {p:.1} (growth over its set-up and first slice)");
     }
     println!("bare queue events/s: {:.0}", ev / bare_time.wall);
     if let (Some(sim), Some(floor), Some(bare)) = (sim_time.cpu, floor_time.cpu, bare_time.cpu) {
@@ -331,17 +504,40 @@ fn main() -> ExitCode {
             ev / bare,
             floor / sim
         );
+        let mut per: Vec<f64> = slices
+            .iter()
+            .filter_map(|s| s[1].cpu.zip(s[0].cpu).map(|(f, m)| f / m))
+            .collect();
+        let text: Vec<String> = per.iter().map(|r| format!("{r:.2}")).collect();
+        println!("ratio per CPU second, slice by slice: {}", text.join(" "));
+        per.sort_by(f64::total_cmp);
+        if let (Some(lo), Some(hi)) = (per.first(), per.last()) {
+            let mid = per.len() / 2;
+            let median = if per.len() % 2 == 1 {
+                per[mid]
+            } else {
+                0.5 * (per[mid - 1] + per[mid])
+            };
+            println!(
+                "ratio per CPU second, median of {} slices: {median:.2} (range {lo:.2}-{hi:.2})",
+                per.len()
+            );
+        }
     }
     println!(
-        "pending: {pending}, events: {events}, payload trace: {}",
-        if trace_payloads { "on" } else { "off" }
+        "pending: {}, events: {}, slice: {}, payload trace: {}",
+        a.pending,
+        a.events,
+        a.slice,
+        if a.trace_payloads { "on" } else { "off" }
     );
+    let (sim_end, floor_end, bare_end) = (parts.sim.now(), parts.floor.now(), parts.queue.now());
     if sim_end != floor_end || bare_end != floor_end {
         eprintln!(
             "hold: the runs disagree: simulation ended at {sim_end}, bare queue at {bare_end}, \
              floor at {floor_end}"
         );
-        return ExitCode::FAILURE;
+        return Ok(false);
     }
-    ExitCode::SUCCESS
+    Ok(true)
 }
