@@ -37,13 +37,14 @@ pub enum Owner {
 /// The set of named random streams of one run.
 ///
 /// Streams are kept per owner (the simulation first, then entities by id), each owner's in
-/// order of first use: a lookup is an index and a scan of that owner's few purposes by the
-/// purposes' hashes, kept with the streams (no name is read: a lookup costs a memory access
+/// order of first use: an owner's first stream inline in one dense table indexed by the
+/// owner (one access finds it and its generator's position), the others in a list per
+/// owner, scanned by the purposes' hashes (no name is read: a lookup costs a memory access
 /// or two, which matters when thousands of agents draw in turn). A stream is thus known by
 /// its owner and the [`stable_str_hash`] of its purpose, as its seed is: two purposes whose
-/// names hash alike (a chance of 2^-64 a pair) would share one stream, where they would
-/// otherwise have had two streams of the same seed. It serializes as the list of
-/// `(purpose, stream)` pairs per owner.
+/// names hash alike (a chance of 2^-64 a pair; hashes 0 and 1 count as alike, 0 marking an
+/// empty row) would share one stream, where they would otherwise have had two streams of
+/// the same seed. It serializes as the list of `(purpose, stream)` pairs per owner.
 ///
 /// Besides the ChaCha8 streams ([`stream`](Self::stream)) it keeps small ones
 /// ([`small`](Self::small): [`SplitMix64`], 8 bytes of state) for models whose many agents
@@ -52,7 +53,15 @@ pub enum Owner {
 #[derive(Clone, Debug)]
 pub struct RngStreams {
     master: u64,
-    streams: Vec<Vec<Stream>>,
+    /// Per owner slot: the key of its first stream (0: none yet), apart from the streams so
+    /// that finding a stream reads a dense table (eight owners a cache line) and then only
+    /// the lines of the generator that the draw reads.
+    first_key: Vec<u64>,
+    /// Per owner slot: its first stream (an empty row where `first_key` is 0).
+    first: Vec<Stream>,
+    /// Per owner slot: its streams beyond the first, in order of creation (may be shorter
+    /// than `first`).
+    more: Vec<Vec<Stream>>,
     /// Per owner slot: its first small stream (`key` 0: none yet).
     small: Vec<SmallStream>,
     /// Small streams beyond an owner's first: (owner slot, stream).
@@ -85,15 +94,46 @@ fn small_key(purpose: &str) -> u64 {
     stable_str_hash(purpose).max(1)
 }
 
-/// One named stream and the hash of its name. The hash comes first and the generator right
-/// after it (`repr(C)`): a lookup's first touch of a cold stream then brings in the start
-/// of the generator's state too.
+/// The key of a stream's purpose: its [`stable_str_hash`] (its seed's), with 0 (the mark of
+/// an empty row) moved to 1.
+#[inline]
+fn stream_key(purpose: &str) -> u64 {
+    stable_str_hash(purpose).max(1)
+}
+
+/// One named stream and the key of its name ([`stream_key`]). The key comes first and the
+/// generator right after it (`repr(C)`), the whole aligned on a cache line (384 bytes): a
+/// scan's first touch of a cold stream then brings in the first of the generator's numbers
+/// too, and every stream of the dense table of first streams lies the same way across
+/// lines. (The generator, as rustc lays out `rand_core`'s `BlockRng` today, holds its 64
+/// numbers first and its position last, 304 bytes on: a draw reads the position's line and
+/// the next numbers' line, which no order of this struct's fields brings together.)
 #[derive(Clone, Debug)]
-#[repr(C)]
+#[repr(C, align(64))]
 struct Stream {
     key: u64,
     rng: ChaCha8Rng,
     name: Box<str>,
+}
+
+impl Stream {
+    /// An empty row of the table of first streams.
+    fn empty() -> Self {
+        Stream {
+            key: 0,
+            rng: ChaCha8Rng::from_seed([0; 32]),
+            name: "".into(),
+        }
+    }
+
+    /// The stream of `name`, whose generator is `rng`.
+    fn named(name: Box<str>, rng: ChaCha8Rng) -> Self {
+        Stream {
+            key: stream_key(&name),
+            rng,
+            name,
+        }
+    }
 }
 
 /// The serialized form of [`RngStreams`].
@@ -134,9 +174,17 @@ impl Serialize for RngStreams {
         Wire {
             master: self.master,
             streams: self
-                .streams
+                .first
                 .iter()
-                .map(|l| l.iter().map(|x| (&*x.name, &x.rng)).collect())
+                .enumerate()
+                .map(|(slot, x)| {
+                    let more = self.more.get(slot).map_or(&[][..], Vec::as_slice);
+                    std::iter::once(x)
+                        .filter(|x| x.key != 0)
+                        .chain(more)
+                        .map(|x| (&*x.name, &x.rng))
+                        .collect()
+                })
                 .collect(),
             small,
             small_more,
@@ -171,24 +219,28 @@ impl<'de> Deserialize<'de> for RngStreams {
                 .ok_or_else(|| serde::de::Error::custom("small stream of an unknown owner"))?;
             small_more.push((slot, named(name, rng)));
         }
+        let mut first = Vec::with_capacity(w.streams.len());
+        let mut first_key = Vec::with_capacity(w.streams.len());
+        let mut more = Vec::new();
+        for (slot, list) in w.streams.into_iter().enumerate() {
+            let mut list = list.into_iter().map(|(n, r)| Stream::named(n, r));
+            let x = list.next().unwrap_or_else(Stream::empty);
+            first_key.push(x.key);
+            first.push(x);
+            let rest: Vec<Stream> = list.collect();
+            if !rest.is_empty() {
+                more.resize_with(slot + 1, Vec::new);
+                more[slot] = rest;
+            }
+        }
         Ok(RngStreams {
             master: w.master,
+            first_key,
+            first,
+            more,
             small,
             small_more,
             small_names,
-            streams: w
-                .streams
-                .into_iter()
-                .map(|l| {
-                    l.into_iter()
-                        .map(|(name, rng)| Stream {
-                            key: stable_str_hash(&name),
-                            name,
-                            rng,
-                        })
-                        .collect()
-                })
-                .collect(),
         })
     }
 }
@@ -198,7 +250,9 @@ impl RngStreams {
     pub fn new(master_seed: u64) -> Self {
         RngStreams {
             master: master_seed,
-            streams: Vec::new(),
+            first_key: Vec::new(),
+            first: Vec::new(),
+            more: Vec::new(),
             small: Vec::new(),
             small_more: Vec::new(),
             small_names: std::collections::BTreeMap::new(),
@@ -214,31 +268,44 @@ impl RngStreams {
     #[inline]
     pub fn stream(&mut self, owner: Owner, purpose: &str) -> &mut ChaCha8Rng {
         let slot = slot_of(owner);
-        let key = stable_str_hash(purpose);
-        if let Some(list) = self.streams.get(slot)
-            && let Some(i) = list.iter().position(|x| x.key == key)
-        {
-            return &mut self.streams[slot][i].rng;
+        let key = stream_key(purpose);
+        if self.first_key.get(slot) == Some(&key) {
+            return &mut self.first[slot].rng;
         }
-        self.new_stream(owner, purpose, key)
+        self.stream_slow(owner, purpose)
     }
 
-    /// Creates the stream for (owner, purpose), whose name hashes to `key`.
+    /// The stream of (owner, purpose) when it is not its owner's first, or is new.
     #[cold]
     #[inline(never)]
-    fn new_stream(&mut self, owner: Owner, purpose: &str, key: u64) -> &mut ChaCha8Rng {
+    fn stream_slow(&mut self, owner: Owner, purpose: &str) -> &mut ChaCha8Rng {
         let slot = slot_of(owner);
-        if self.streams.len() <= slot {
-            self.streams.resize_with(slot + 1, Vec::new);
+        let key = stream_key(purpose);
+        if self.first.len() <= slot {
+            self.first.resize_with(slot + 1, Stream::empty);
+            self.first_key.resize(slot + 1, 0);
         }
-        let list = &mut self.streams[slot];
-        let seed = derive_seed(self.master, owner, key);
-        list.push(Stream {
+        let fresh = |master| Stream {
             key,
             name: purpose.into(),
-            rng: ChaCha8Rng::from_seed(seed),
-        });
-        let i = list.len() - 1;
+            rng: ChaCha8Rng::from_seed(derive_seed(master, owner, stable_str_hash(purpose))),
+        };
+        if self.first_key[slot] == 0 {
+            self.first_key[slot] = key;
+            self.first[slot] = fresh(self.master);
+            return &mut self.first[slot].rng;
+        }
+        if self.more.len() <= slot {
+            self.more.resize_with(slot + 1, Vec::new);
+        }
+        let list = &mut self.more[slot];
+        let i = match list.iter().position(|x| x.key == key) {
+            Some(i) => i,
+            None => {
+                list.push(fresh(self.master));
+                list.len() - 1
+            }
+        };
         &mut list[i].rng
     }
 
@@ -368,6 +435,42 @@ mod tests {
             .stream(Owner::Entity(EntityId(0)), "a")
             .random();
         assert!(a != b && a != c && a != d);
+    }
+
+    #[test]
+    fn first_and_later_streams_draw_from_their_seeds_whatever_the_order() {
+        let e = |i| Owner::Entity(EntityId(i));
+        let asks = [
+            (e(4), "a"),
+            (e(4), "b"),
+            (e(2), "b"),
+            (e(4), "c"),
+            (Owner::Global, "a"),
+        ];
+        let mut s = RngStreams::new(3);
+        let mut t = RngStreams::new(3);
+        for round in 0..3 {
+            for (i, &(o, p)) in asks.iter().enumerate() {
+                let x: u64 = s.stream(o, p).random();
+                // `t` asks in the other order, so its first streams are other purposes.
+                let (o2, p2) = asks[asks.len() - 1 - i];
+                let _: u64 = t.stream(o2, p2).random();
+                let mut fresh = s.fresh(o, p);
+                for _ in 0..round {
+                    let _: u64 = fresh.random();
+                }
+                assert_eq!(x, fresh.random::<u64>(), "{o:?} {p} round {round}");
+            }
+        }
+        for &(o, p) in &asks {
+            assert_eq!(
+                s.stream(o, p).random::<u64>(),
+                t.stream(o, p).random::<u64>()
+            );
+        }
+        assert_eq!(s.first.len(), 6);
+        assert_eq!(s.more[5].len(), 2, "entity 4's later streams");
+        assert_eq!(std::mem::align_of::<Stream>(), 64);
     }
 
     #[test]
