@@ -196,7 +196,7 @@ mod tests {
 
     /// A pure stand-in for the ray cast.
     fn truth(a: [f64; 3], b: [f64; 3]) -> bool {
-        (a[0] as usize * 7 + b[0] as usize) % 3 == 0
+        (a[0] as usize * 7 + b[0] as usize).is_multiple_of(3)
     }
 
     #[test]
