@@ -5,7 +5,7 @@
 use crate::sense::covered;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use vitro::entity::EntityId;
+use vitro::entity::{EntityId, EntityMap};
 use vitro::time::SimTime;
 use vitro_tactical::arena::Arena;
 use vitro_tactical::condition::{Role, Status};
@@ -117,7 +117,7 @@ pub struct Referee {
     last: Option<SimTime>,
     /// Log lines of what changed (time, text), drained by the frames.
     pub log: Vec<(SimTime, String)>,
-    statuses: BTreeMap<EntityId, Status>,
+    statuses: EntityMap<Status>,
     /// Range of the aircraft's sensors, metres (for [`Metrics::patrol_sight_fraction`]).
     pub sensor_range_m: f64,
     /// Escort time so far, and how much of it a Skeldar was within the cover radius and

@@ -12,7 +12,7 @@
 //! entity is, and must hold, search, or go to the last place it was reported at.
 //!
 //! ```
-//! use vitro::entity::EntityId;
+//! use vitro::entity::{EntityId, EntityMap};
 //! use vitro::time::{SimDuration, SimTime};
 //! use vitro_tactical::belief::{Fix, Whereabouts};
 //!
@@ -39,16 +39,15 @@ pub use crate::radio::Fix;
 use crate::radio::Radio;
 use crate::sensor::Sighting;
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 use vitro::comm::{Address, Envelope, Outgoing};
-use vitro::entity::EntityId;
+use vitro::entity::{EntityId, EntityMap};
 use vitro::sim::Context;
 use vitro::time::{SimDuration, SimTime};
 
 /// Where each other entity was last known to be, from reports and own sightings.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Whereabouts {
-    fixes: BTreeMap<EntityId, Fix>,
+    fixes: EntityMap<Fix>,
     /// A fix older than this is not used for an estimate.
     pub stale_after: SimDuration,
     /// Position reports heard.
@@ -66,7 +65,7 @@ impl Whereabouts {
     /// Nothing known yet; fixes go stale after `stale_after`.
     pub fn new(stale_after: SimDuration) -> Self {
         Whereabouts {
-            fixes: BTreeMap::new(),
+            fixes: EntityMap::new(),
             stale_after,
             reports: 0,
         }
@@ -74,7 +73,7 @@ impl Whereabouts {
 
     /// Keeps `fix` of `id` if it is newer than the one held.
     pub fn note(&mut self, id: EntityId, fix: Fix) {
-        match self.fixes.get(&id) {
+        match self.fixes.get(id) {
             Some(old) if old.at > fix.at => {}
             _ => {
                 self.fixes.insert(id, fix);
@@ -111,7 +110,7 @@ impl Whereabouts {
     /// estimated from the previous fix when there is one, a few seconds old at most).
     pub fn saw(&mut self, s: &Sighting, now: SimTime) {
         let (mut course, mut speed) = (0.0, 0.0);
-        if let Some(old) = self.fixes.get(&s.id) {
+        if let Some(old) = self.fixes.get(s.id) {
             let dt = now.saturating_since(old.at).as_secs_f64();
             if dt > 0.0 && dt <= 10.0 {
                 let (dx, dy) = (s.pos[0] - old.pos[0], s.pos[1] - old.pos[1]);
@@ -133,13 +132,13 @@ impl Whereabouts {
 
     /// The newest fix of `id`, however old.
     pub fn last(&self, id: EntityId) -> Option<&Fix> {
-        self.fixes.get(&id)
+        self.fixes.get(id)
     }
 
     /// The newest fix of `id` if it is not stale at `now`.
     pub fn fresh(&self, id: EntityId, now: SimTime) -> Option<&Fix> {
         self.fixes
-            .get(&id)
+            .get(id)
             .filter(|f| f.age(now) <= self.stale_after)
     }
 
@@ -151,7 +150,7 @@ impl Whereabouts {
 
     /// Forgets `id` (e.g. reported down).
     pub fn forget(&mut self, id: EntityId) {
-        self.fixes.remove(&id);
+        self.fixes.remove(id);
     }
 }
 

@@ -1,5 +1,8 @@
 //! Entities: identities (id + name). An agent is a brain; its body is state in storages.
 
+mod map;
+
+pub use map::EntityMap;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 use std::fmt;

@@ -15,9 +15,8 @@ pub mod ugv;
 
 use super::brief::{BLUE, Brief};
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 use vitro::comm::{Address, Outgoing};
-use vitro::entity::EntityId;
+use vitro::entity::{EntityId, EntityMap};
 use vitro::sim::Context;
 use vitro::time::{SimDuration, SimTime};
 use vitro_tactical::belief::{Beacon, Whereabouts};
@@ -35,7 +34,7 @@ const REPORT_AGAIN: SimDuration = SimDuration::from_secs(30);
 /// Reports hostile sightings to the blue group, each target at most once per 30 s.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Reporter {
-    last: BTreeMap<EntityId, SimTime>,
+    last: EntityMap<SimTime>,
     /// Contact reports sent.
     pub sent: u32,
 }
@@ -47,7 +46,7 @@ impl Reporter {
         for s in sightings.iter().filter(|s| s.seen_as == Side::Red) {
             let fresh = self
                 .last
-                .get(&s.id)
+                .get(s.id)
                 .is_none_or(|&t| now.saturating_since(t) >= REPORT_AGAIN);
             if fresh {
                 self.last.insert(s.id, now);
