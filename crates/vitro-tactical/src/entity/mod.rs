@@ -15,6 +15,7 @@ pub mod discrete;
 pub mod ground;
 pub mod roads;
 pub mod route;
+pub mod stretch;
 pub mod troop;
 
 use schemars::JsonSchema;

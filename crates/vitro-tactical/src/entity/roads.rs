@@ -3,6 +3,7 @@
 //! property the cross-level check then re-checks on every concrete level), and its largest
 //! strongly connected part (where any node reaches any other).
 
+use super::stretch::{Stretch, Stretches};
 use serde::{Deserialize, Serialize};
 use vitro::env::{GraphStorage, NodeId};
 use vitro_site::geo::{P2, dist};
@@ -40,6 +41,8 @@ pub struct FreeGraph {
     /// Per node: true if it is in the largest strongly connected part of the free graph
     /// (every such node reaches every other).
     pub main: Vec<bool>,
+    /// Per segment and direction: its stretch of track, once a trip needed it.
+    stretches: Stretches,
 }
 
 impl FreeGraph {
@@ -81,7 +84,14 @@ impl FreeGraph {
             graph,
             blocked,
             main,
+            stretches: Stretches::new(sg.segments.len()),
         }
+    }
+
+    /// The stretch of track on `segment` in direction `forward` ([`Stretch`]), worked out the
+    /// first time it is asked for; `site` must be the one these roads were made for.
+    pub fn stretch(&self, site: &Site, segment: usize, forward: bool) -> Option<&Stretch> {
+        self.stretches.get(site, self.mode, segment, forward)
     }
 
     /// Number of free directed edges leaving `n`.

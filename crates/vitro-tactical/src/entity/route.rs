@@ -12,15 +12,14 @@
 //!   the grade ([`TroopParams::walking_speed`]).
 
 use super::roads::{FreeGraph, RouteError};
+use super::stretch::piece;
+pub use super::stretch::{TRACK_STEP, dist3};
 use crate::types::{GroundType, SpeedLimits, TroopParams};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::env::NodeId;
 use vitro_site::geo::dist;
 use vitro_site::site::Site;
-
-/// Largest spacing of track points, metres.
-pub const TRACK_STEP: f64 = 1.0;
 
 /// A planned path as a fine polyline with its speed profile.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -41,24 +40,28 @@ pub struct Track {
 
 impl Track {
     /// The points of `path` on the free graph of `mode`: each street segment's ground (or deck)
-    /// path, resampled to [`TRACK_STEP`], with its street class's speed limit and the corner
-    /// speeds left unset (infinite). The ground speed limit is `limits` (`None`: no limit).
+    /// path, resampled to [`TRACK_STEP`] (its [`Stretch`](super::stretch::Stretch), shared
+    /// by every trip over it), with its street class's speed limit and the corner speeds
+    /// left unset (infinite), and the pieces between the points. The ground speed limit is
+    /// `limits` (`None`: no limit).
     fn geometry(
         site: &Site,
         roads: &FreeGraph,
         path: &[NodeId],
         limits: Option<&SpeedLimits>,
-    ) -> Result<Track, RouteError> {
+    ) -> Result<(Track, Pieces), RouteError> {
         let sg = site.map.streets(roads.mode);
         let mut tr = Track::default();
+        let mut pieces = Pieces::default();
         let Some(&first) = path.first() else {
-            return Ok(tr);
+            return Ok((tr, pieces));
         };
         let start = sg.pos(first).ok_or(RouteError::NoNode(first))?;
         let z0 = site.ground(site.to_world(start)).unwrap_or(0.0);
         let w0 = site.to_world(start);
         tr.pts.push([w0[0], w0[1], z0]);
         tr.limit.push(f64::INFINITY);
+        tr.s.push(0.0);
         tr.nodes.push((0, first));
         for w in path.windows(2) {
             let (a, b) = (w[0], w[1]);
@@ -70,44 +73,34 @@ impl Track {
                 .map(|(_, _, e)| *e)
                 .ok_or(RouteError::NoPath { from: a, to: b })?;
             let seg = &sg.segments[edge.segment as usize];
-            let mut pts = site
-                .segment_path(roads.mode, edge.segment as usize)
-                .unwrap_or_default();
-            if !edge.forward {
-                pts.reverse();
-            }
+            let stretch = roads
+                .stretch(site, edge.segment as usize, edge.forward)
+                .ok_or(RouteError::NoPath { from: a, to: b })?;
             let cap = limits.map_or(f64::INFINITY, |l| l.for_class(&seg.class));
-            for q in pts.windows(2) {
-                let (p0, p1) = (q[0], q[1]);
-                let l = dist([p0[0], p0[1]], [p1[0], p1[1]]);
-                let n = (l / TRACK_STEP).ceil().max(1.0) as usize;
-                for k in 1..=n {
-                    let t = k as f64 / n as f64;
-                    let x = p0[0] + t * (p1[0] - p0[0]);
-                    let y = p0[1] + t * (p1[1] - p0[1]);
-                    let z = if seg.bridge {
-                        p0[2] + t * (p1[2] - p0[2])
-                    } else {
-                        site.ground([x, y]).unwrap_or(p0[2] + t * (p1[2] - p0[2]))
-                    };
-                    if let Some(last) = tr.limit.last_mut() {
-                        *last = last.min(cap);
-                    }
-                    tr.pts.push([x, y, z]);
-                    tr.limit.push(cap);
+            if let (Some(&prev), Some(&next)) = (tr.pts.last(), stretch.pts.first()) {
+                // The piece from the track so far onto this stretch, then the stretch's own.
+                let (h, r) = piece(prev, next);
+                pieces.heading.push(h);
+                pieces.run.push(r);
+                let mut s = tr.s.last().copied().unwrap_or(0.0) + dist3(prev, next);
+                tr.s.push(s);
+                for &d in &stretch.len3 {
+                    s += d;
+                    tr.s.push(s);
                 }
+                pieces.heading.extend_from_slice(&stretch.heading);
+                pieces.run.extend_from_slice(&stretch.run);
+            }
+            for &p in &stretch.pts {
+                if let Some(last) = tr.limit.last_mut() {
+                    *last = last.min(cap);
+                }
+                tr.pts.push(p);
+                tr.limit.push(cap);
             }
             tr.nodes.push((tr.pts.len() - 1, b));
         }
-        tr.s = Vec::with_capacity(tr.pts.len());
-        let mut s = 0.0;
-        for (i, p) in tr.pts.iter().enumerate() {
-            if i > 0 {
-                s += dist3(tr.pts[i - 1], *p);
-            }
-            tr.s.push(s);
-        }
-        Ok(tr)
+        Ok((tr, pieces))
     }
 
     /// Plans `path` for a ground vehicle of type `ty`: street limits, corner speeds, then the
@@ -119,15 +112,12 @@ impl Track {
         ty: &GroundType,
         limits: &SpeedLimits,
     ) -> Result<Track, RouteError> {
-        let mut tr = Self::geometry(site, roads, path, Some(limits))?;
+        let (mut tr, pieces) = Self::geometry(site, roads, path, Some(limits))?;
         let n = tr.pts.len();
         let vmax = ty.max_speed();
         for l in &mut tr.limit {
             *l = l.min(vmax);
         }
-        // Each piece's heading and horizontal length, worked out once (the same values
-        // as computed where they are used).
-        let pieces = Pieces::of(&tr.pts);
         // Corner speeds at the vertices where the heading changes.
         for i in 1..n.saturating_sub(1) {
             let turn = wrap_angle(pieces.heading[i] - pieces.heading[i - 1]);
@@ -176,7 +166,7 @@ impl Track {
         troops: &TroopParams,
         load: f64,
     ) -> Result<Track, RouteError> {
-        let mut tr = Self::geometry(site, roads, path, None)?;
+        let (mut tr, _) = Self::geometry(site, roads, path, None)?;
         let n = tr.pts.len();
         let mut v = vec![0.0; n];
         let mut t = vec![0.0; n];
@@ -290,12 +280,6 @@ pub struct Follow {
     pub track: Arc<Track>,
 }
 
-/// Distance between two 3D points.
-pub fn dist3(a: [f64; 3], b: [f64; 3]) -> f64 {
-    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    libm::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
-}
-
 /// Rise over run from `a` to `b` (0 for a vertical or zero step).
 fn slope(a: [f64; 3], b: [f64; 3]) -> f64 {
     rise_over_run(a, b, dist([a[0], a[1]], [b[0], b[1]]))
@@ -308,6 +292,7 @@ fn rise_over_run(a: [f64; 3], b: [f64; 3], run: f64) -> f64 {
 }
 
 /// The pieces of a polyline: piece `k` goes from point `k` to point `k + 1`.
+#[derive(Debug, Default, PartialEq)]
 struct Pieces {
     /// Heading of each piece, radians from east.
     heading: Vec<f64>,
@@ -332,6 +317,9 @@ impl Pieces {
         len
     }
 
+    /// The pieces of `pts`, each worked out from its two points (what
+    /// [`Track::geometry`] gives, built from stretches).
+    #[cfg(test)]
     fn of(pts: &[[f64; 3]]) -> Self {
         let (heading, run) = pts
             .windows(2)
