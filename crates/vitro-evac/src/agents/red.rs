@@ -12,7 +12,6 @@ use crate::act::{Fire, SetStatus, Walk};
 use crate::brief::Brief;
 use crate::sense::{Myself, Vision, Watched};
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
@@ -30,7 +29,10 @@ use vitro_tactical::world::Side;
 pub struct Adversary {
     #[serde(with = "crate::snapshot::briefed")]
     brief: Arc<Brief>,
-    aim: BTreeMap<EntityId, SimTime>,
+    /// Since when it has aimed at each blue unit in range: a handful, sorted by id (a
+    /// binary search, where a tree's walk and rebalancing cost more), kept as a map.
+    #[serde(with = "aim_map")]
+    aim: Vec<(EntityId, SimTime)>,
     /// Shots fired.
     pub shots: u32,
     /// Its part as the patrol game's attacker, if it plays it.
@@ -47,7 +49,7 @@ impl Adversary {
     pub fn new(brief: Arc<Brief>) -> Self {
         Adversary {
             brief,
-            aim: BTreeMap::new(),
+            aim: Vec::new(),
             shots: 0,
             attacker: None,
         }
@@ -105,10 +107,16 @@ impl Adversary {
             .map(|s| s.id)
             .collect();
         if !self.aim.is_empty() {
-            self.aim.retain(|id, _| blue.contains(id));
+            self.aim.retain(|(id, _)| blue.contains(id));
         }
         for id in blue {
-            let since = *self.aim.entry(id).or_insert(now);
+            let since = match self.aim.binary_search_by_key(&id, |&(k, _)| k) {
+                Ok(i) => self.aim[i].1,
+                Err(i) => {
+                    self.aim.insert(i, (id, now));
+                    now
+                }
+            };
             let aimed = now.saturating_since(since).as_secs_f64() >= m.attack_aim_s;
             let watched = cx.sense(&Watched {
                 target: id,
@@ -122,7 +130,10 @@ impl Adversary {
                 if cx.act(&fire, id).is_ok() {
                     self.shots += 1;
                 }
-                self.aim.insert(id, now);
+                // Aiming anew: `id` is in the list (entered above).
+                if let Ok(i) = self.aim.binary_search_by_key(&id, |&(k, _)| k) {
+                    self.aim[i].1 = now;
+                }
                 break;
             }
         }
@@ -306,5 +317,49 @@ impl Controller for Hvt {
             path,
             ..Intention::default()
         })
+    }
+}
+
+/// The aim list serialized as a map from blue unit to time (as the `BTreeMap` it replaced).
+mod aim_map {
+    use serde::{Deserialize, Deserializer, Serializer};
+    use std::collections::BTreeMap;
+    use vitro::entity::EntityId;
+    use vitro::time::SimTime;
+
+    pub(super) fn serialize<S: Serializer>(
+        v: &[(EntityId, SimTime)],
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        s.collect_map(v.iter().map(|(k, t)| (k, t)))
+    }
+
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Vec<(EntityId, SimTime)>, D::Error> {
+        Ok(BTreeMap::<EntityId, SimTime>::deserialize(d)?
+            .into_iter()
+            .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeMap;
+
+    #[derive(Serialize, Deserialize, PartialEq, Debug)]
+    struct Aims(#[serde(with = "aim_map")] Vec<(EntityId, SimTime)>);
+
+    #[test]
+    fn the_aim_list_serializes_as_the_map_it_replaced() {
+        let list = vec![
+            (EntityId(2), SimTime::from_secs(5)),
+            (EntityId(9), SimTime::from_secs(1)),
+        ];
+        let map: BTreeMap<EntityId, SimTime> = list.iter().copied().collect();
+        let bytes = postcard::to_allocvec(&Aims(list.clone())).unwrap();
+        assert_eq!(bytes, postcard::to_allocvec(&map).unwrap());
+        assert_eq!(postcard::from_bytes::<Aims>(&bytes).unwrap(), Aims(list));
     }
 }
