@@ -1,75 +1,99 @@
-//! The current day's entries of the calendar (module `calendar`): a short sorted list, or a
-//! binary heap when events crowd into one day.
+//! The current day's entries of the calendar (module `calendar`): a short sorted list, a
+//! sorted run when events crowd into one instant, or a binary heap.
 
 use super::radix::Entry;
 
-/// Most entries `today` keeps as a sorted list; beyond, it turns into a binary heap.
+/// Most entries `today` keeps as a sorted list; beyond, it turns into a run or a heap.
 pub(super) const SORTED_MAX: usize = 32;
+
+/// How [`Today`] holds its entries.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+enum Mode {
+    /// Sorted, largest key first: a pop takes the last entry.
+    #[default]
+    List,
+    /// `v[head..]` sorted, smallest key first: a pop takes the entry at `head`; a push of a
+    /// key above every other is an append.
+    Run,
+    /// A binary min-heap.
+    Heap,
+}
 
 /// Today's entries. A day holds a handful of entries: they are kept sorted, largest key
 /// first, so that a pop takes the last one (no sift, no branch that depends on the keys) and
 /// a push is an insertion from the end. When events crowd into one day (more than
-/// [`SORTED_MAX`]), the list becomes a binary min-heap (an ascending list is one already):
-/// O(log n) per operation, never a linear insertion per event. It is a sorted list again
-/// once the day is empty.
+/// [`SORTED_MAX`]) it becomes a *run*, the entries in ascending order read from a moving
+/// head: events due at one instant (a thousand agents' timers at the same second) arrive in
+/// ascending order, as their sequence numbers do, so each push is an append and each pop a
+/// read, O(1). The first push that would break the order turns the run into a binary
+/// min-heap (an ascending list is one already): O(log n) per operation from then on, never
+/// a linear insertion per event. It is a sorted list again once the day is empty.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Today {
     v: Vec<Entry>,
-    /// `v` is a binary min-heap (else it is sorted, largest key first).
-    heap: bool,
+    /// Where the run starts (0 unless `mode` is [`Mode::Run`]).
+    head: usize,
+    mode: Mode,
 }
+
+/// A run drops the entries it has taken once they are this many and at least half of it.
+const RUN_COMPACT: usize = 64;
 
 impl Today {
     #[cfg(test)]
     pub(super) fn len(&self) -> usize {
-        self.v.len()
+        self.v.len() - self.head
     }
 
     #[inline(always)]
     pub(super) fn peek(&self) -> Option<&Entry> {
-        if self.heap {
-            self.v.first()
-        } else {
-            self.v.last()
+        match self.mode {
+            Mode::List => self.v.last(),
+            Mode::Run => self.v.get(self.head),
+            Mode::Heap => self.v.first(),
         }
     }
 
     pub(super) fn iter(&self) -> impl Iterator<Item = &Entry> {
-        self.v.iter()
+        self.v[self.head..].iter()
     }
 
     #[inline(always)]
     pub(super) fn push(&mut self, e: Entry) {
-        if self.heap {
-            self.heap_push(e);
-        } else if self.v.len() < SORTED_MAX {
-            // Insertion from the end (the smallest keys).
-            let k = e.key();
-            let mut i = self.v.len();
-            self.v.push(e);
-            let v = &mut self.v[..];
-            while i > 0 && v[i - 1].key() < k {
-                v[i] = v[i - 1];
-                i -= 1;
+        match self.mode {
+            Mode::List if self.v.len() < SORTED_MAX => {
+                // Insertion from the end (the smallest keys).
+                let k = e.key();
+                let mut i = self.v.len();
+                self.v.push(e);
+                let v = &mut self.v[..];
+                while i > 0 && v[i - 1].key() < k {
+                    v[i] = v[i - 1];
+                    i -= 1;
+                }
+                v[i] = e;
             }
-            v[i] = e;
-        } else {
-            self.become_heap();
-            self.heap_push(e);
+            Mode::List => {
+                self.become_run();
+                self.run_push(e);
+            }
+            Mode::Run => self.run_push(e),
+            Mode::Heap => self.heap_push(e),
         }
     }
 
     /// Appends entries in no order; [`settle`](Self::settle) must follow before any other use.
     #[inline(always)]
     pub(super) fn extend(&mut self, es: &[Entry]) {
+        self.compact();
         self.v.extend_from_slice(es);
     }
 
     /// Restores the order after [`extend`](Self::extend): an insertion sort while the list is
-    /// short, else a heap (the list sorted in ascending order).
+    /// short, else a run (the entries sorted in ascending order).
     #[inline]
     pub(super) fn settle(&mut self) {
-        if !self.heap && self.v.len() <= SORTED_MAX {
+        if self.mode == Mode::List && self.v.len() <= SORTED_MAX {
             let v = &mut self.v[..];
             for i in 1..v.len() {
                 let e = v[i];
@@ -83,26 +107,62 @@ impl Today {
             }
         } else {
             self.v.sort_unstable_by_key(Entry::key);
-            self.heap = true;
+            self.mode = Mode::Run;
         }
     }
 
-    /// Turns the sorted list into a min-heap: ascending order is heap order.
+    /// Turns the sorted list into a run: the same entries, ascending.
     #[cold]
     #[inline(never)]
-    fn become_heap(&mut self) {
+    fn become_run(&mut self) {
         self.v.reverse();
-        self.heap = true;
+        self.mode = Mode::Run;
+    }
+
+    /// A push onto the run: an append if `e` is above every entry, else the run becomes a
+    /// heap (ascending order is heap order) and takes `e` as one.
+    #[inline]
+    fn run_push(&mut self, e: Entry) {
+        if self.v.last().is_none_or(|last| last.key() < e.key()) {
+            self.v.push(e);
+        } else {
+            self.compact();
+            self.mode = Mode::Heap;
+            self.heap_push(e);
+        }
+    }
+
+    /// Drops the entries a run has taken.
+    fn compact(&mut self) {
+        if self.head > 0 {
+            self.v.drain(..self.head);
+            self.head = 0;
+        }
     }
 
     #[inline(always)]
     pub(super) fn pop(&mut self) -> Option<Entry> {
-        if self.heap {
-            let top = self.heap_pop();
-            self.heap = !self.v.is_empty();
-            top
-        } else {
-            self.v.pop()
+        match self.mode {
+            Mode::List => self.v.pop(),
+            Mode::Run => {
+                let e = *self.v.get(self.head)?;
+                self.head += 1;
+                if self.head == self.v.len() {
+                    self.v.clear();
+                    self.head = 0;
+                    self.mode = Mode::List;
+                } else if self.head >= RUN_COMPACT && 2 * self.head >= self.v.len() {
+                    self.compact();
+                }
+                Some(e)
+            }
+            Mode::Heap => {
+                let top = self.heap_pop();
+                if self.v.is_empty() {
+                    self.mode = Mode::List;
+                }
+                top
+            }
         }
     }
 
@@ -168,11 +228,11 @@ mod tests {
             assert_eq!(Some(e.key()), reference.pop_first());
         }
         assert!(reference.is_empty());
-        assert!(!t.heap, "an empty day is a sorted list again");
+        assert_eq!(t.mode, Mode::List, "an empty day is a sorted list again");
     }
 
     #[test]
-    fn a_short_day_is_a_sorted_list_and_a_crowded_one_a_heap() {
+    fn a_short_day_is_a_sorted_list_and_a_crowded_one_a_run_or_a_heap() {
         let mut x = 7u64;
         let mut rand = move || {
             x = x
@@ -188,7 +248,12 @@ mod tests {
             t.extend(&bulk);
             t.settle();
             reference.extend(bulk.iter().map(Entry::key));
-            assert_eq!(t.heap, n > SORTED_MAX, "{n} entries");
+            let want = if n > SORTED_MAX {
+                Mode::Run
+            } else {
+                Mode::List
+            };
+            assert_eq!(t.mode, want, "{n} entries");
             for s in 0..4 * n as u64 {
                 if s % 3 == 2 {
                     let e = *t.peek().unwrap();
@@ -206,16 +271,49 @@ mod tests {
     }
 
     #[test]
-    fn pushes_beyond_the_bound_turn_the_list_into_a_heap() {
+    fn pushes_at_one_instant_beyond_the_bound_make_a_run() {
         let mut t = Today::default();
         let mut reference = std::collections::BTreeSet::new();
         // Every push at one instant: later sequence numbers, larger keys.
         for s in 0..=SORTED_MAX as u64 {
-            assert!(!t.heap, "{s} entries");
+            assert_eq!(t.mode, Mode::List, "{s} entries");
             t.push(entry(5, s));
             reference.insert(entry(5, s).key());
         }
-        assert!(t.heap);
+        assert_eq!(t.mode, Mode::Run);
+        drain(&mut t, &mut reference);
+    }
+
+    #[test]
+    fn a_run_takes_appends_in_place_and_an_earlier_key_makes_it_a_heap() {
+        let mut t = Today::default();
+        let mut reference = std::collections::BTreeSet::new();
+        let bulk: Vec<Entry> = (0..100).rev().map(|s| entry(5, s)).collect();
+        t.extend(&bulk);
+        t.settle();
+        reference.extend(bulk.iter().map(Entry::key));
+        // A stream of events at one instant: each fired one schedules the next, for long.
+        for s in 100..10_000 {
+            let e = *t.peek().unwrap();
+            assert_eq!(t.pop(), Some(e));
+            assert_eq!(Some(e.key()), reference.pop_first());
+            t.push(entry(5, s));
+            reference.insert(entry(5, s).key());
+            assert_eq!(t.mode, Mode::Run);
+            // What it has taken is dropped: memory follows the entries, not the pops.
+            assert!(
+                t.v.len() <= 2 * RUN_COMPACT.max(t.len()),
+                "{} held",
+                t.v.len()
+            );
+        }
+        // An event before the last one (a later instant is already there): a heap now.
+        t.push(entry(6, 20_000));
+        reference.insert(entry(6, 20_000).key());
+        t.push(entry(5, 20_001));
+        reference.insert(entry(5, 20_001).key());
+        assert_eq!(t.mode, Mode::Heap);
+        assert_eq!(t.len(), reference.len());
         drain(&mut t, &mut reference);
     }
 }
