@@ -14,8 +14,10 @@
 //! the day list's last entry and, when the day is over, sorts the next non-empty day (found in
 //! a two-level bitmap) into the list and moves the far events the window now covers from the
 //! radix heap to the ring. The day width and count follow the observed gaps and hold
-//! distances, revised at most once per `len` pops (a revision is O(len)). A crowded instant
-//! turns the day list into a binary heap: O(log n) per event, never a linear scan.
+//! distances, revised at most once per `len` pops (a revision is O(len)). A crowded day
+//! becomes a sorted run read from a moving head (events due at one instant arrive in key
+//! order: O(1) each), and a binary heap once a push breaks the order: O(log n) per event,
+//! never a linear scan.
 //!
 //! Simulated time never goes back: an event is never scheduled before the last popped one, and
 //! every new event gets a larger sequence number than any before it. So the keys leave the queue in

@@ -2,8 +2,8 @@
 //! a short sorted list for the current day.
 //!
 //! Time is cut into days of `2^shift` nanoseconds. The entries of the current day sit in
-//! `today`, a short list sorted on (time, seq) (a binary min-heap when events crowd into one
-//! day). The entries of the next `days - 1` days sit unsorted in a ring of buckets (chunk
+//! `today`, a short list sorted on (time, seq) (a sorted run or a binary min-heap when events
+//! crowd into one day). The entries of the next `days - 1` days sit unsorted in a ring of buckets (chunk
 //! lists, one per day), and every later entry waits in the radix heap (`far`). A push is an
 //! append to one of the three (an insertion for today). A pop takes today's minimum, the
 //! list's last entry; when today is over, the next non-empty day (found in a two-level bitmap) is
@@ -11,11 +11,12 @@
 //! the ring. With the day width near the mean gap between events, a day holds a handful of
 //! entries: a pop or a push is a few sequential memory accesses.
 //!
-//! Nothing ever degrades to a linear scan per operation: a crowded day (say every event at
-//! the same instant) is a binary heap, O(log n) per event; far-away events go through the
-//! radix heap (at most 16 moves each). The day width and the number of days are chosen from
-//! what the queue observes (mean gap between pops, mean distance of pushes ahead of now) and
-//! revised at most once per `max(len, 64)` pops; a revision rebuilds the tiers in O(len).
+//! Nothing ever degrades to a linear scan per operation: a crowded day is a run (every event
+//! at the same instant: O(1) per event) or a binary heap, O(log n) per event; far-away events
+//! go through the radix heap (at most 16 moves each). The day width and the number of days
+//! are chosen from what the queue observes (mean gap between pops, mean distance of pushes
+//! ahead of now) and revised at most once per `max(len, 64)` pops; a revision rebuilds the
+//! tiers in O(len).
 
 use super::radix::{BUCKETS, CHUNK, Entry, Head, NIL, RadixHeap};
 use super::today::Today;
