@@ -11,8 +11,11 @@ use std::collections::BTreeMap;
 ///
 /// For what an agent keeps about many others (the last fix of each, when it last reported
 /// each): with thousands of entities, a tree's lookups are a measurable share of a run. Its
-/// memory follows the largest id inserted, not the number of entries, so a map that holds a
-/// handful of entries of a large population is better kept in a `BTreeMap` or a short list.
+/// memory follows the largest id inserted below [`EntityMap::DENSE_IDS`], not the number of
+/// entries, so a map that holds a handful of entries of a large population is better kept
+/// in a `BTreeMap` or a short list. Ids from [`EntityMap::DENSE_IDS`] on (beyond any
+/// scenario's population: a placeholder, an id named in a forged message) are kept in a tree
+/// beside the rows, so any id is a valid key.
 ///
 /// It serializes exactly as a `BTreeMap<EntityId, T>` with the same entries does (a map in
 /// id order), and reads that form back, so a snapshot does not tell the two apart.
@@ -33,6 +36,8 @@ use std::collections::BTreeMap;
 #[derive(Clone, Debug)]
 pub struct EntityMap<T> {
     rows: Vec<Option<T>>,
+    /// The entries of ids from [`Self::DENSE_IDS`] on.
+    beyond: BTreeMap<EntityId, T>,
     len: usize,
 }
 
@@ -43,10 +48,14 @@ impl<T> Default for EntityMap<T> {
 }
 
 impl<T> EntityMap<T> {
+    /// Ids below this are kept in rows; the others in a tree.
+    pub const DENSE_IDS: u32 = 1 << 16;
+
     /// An empty map.
     pub const fn new() -> Self {
         EntityMap {
             rows: Vec::new(),
+            beyond: BTreeMap::new(),
             len: 0,
         }
     }
@@ -64,13 +73,21 @@ impl<T> EntityMap<T> {
     /// The value of `id`.
     #[inline]
     pub fn get(&self, id: EntityId) -> Option<&T> {
-        self.rows.get(id.index())?.as_ref()
+        match self.rows.get(id.index()) {
+            Some(row) => row.as_ref(),
+            None if id.0 >= Self::DENSE_IDS => self.beyond.get(&id),
+            None => None,
+        }
     }
 
     /// The value of `id`, mutable.
     #[inline]
     pub fn get_mut(&mut self, id: EntityId) -> Option<&mut T> {
-        self.rows.get_mut(id.index())?.as_mut()
+        match self.rows.get_mut(id.index()) {
+            Some(row) => row.as_mut(),
+            None if id.0 >= Self::DENSE_IDS => self.beyond.get_mut(&id),
+            None => None,
+        }
     }
 
     /// True if `id` has a value.
@@ -82,6 +99,13 @@ impl<T> EntityMap<T> {
     /// Sets the value of `id`; returns the one it replaces.
     #[inline]
     pub fn insert(&mut self, id: EntityId, value: T) -> Option<T> {
+        if id.0 >= Self::DENSE_IDS {
+            let old = self.beyond.insert(id, value);
+            if old.is_none() {
+                self.len += 1;
+            }
+            return old;
+        }
         let i = id.index();
         if self.rows.len() <= i {
             self.rows.resize_with(i + 1, || None);
@@ -95,7 +119,11 @@ impl<T> EntityMap<T> {
 
     /// Removes the value of `id` and returns it.
     pub fn remove(&mut self, id: EntityId) -> Option<T> {
-        let old = self.rows.get_mut(id.index())?.take();
+        let old = if id.0 >= Self::DENSE_IDS {
+            self.beyond.remove(&id)
+        } else {
+            self.rows.get_mut(id.index())?.take()
+        };
         if old.is_some() {
             self.len -= 1;
         }
@@ -105,6 +133,7 @@ impl<T> EntityMap<T> {
     /// Removes every entry.
     pub fn clear(&mut self) {
         self.rows.clear();
+        self.beyond.clear();
         self.len = 0;
     }
 
@@ -118,6 +147,9 @@ impl<T> EntityMap<T> {
                 self.len -= 1;
             }
         }
+        let before = self.beyond.len();
+        self.beyond.retain(|&id, v| keep(id, v));
+        self.len -= before - self.beyond.len();
     }
 
     /// The entries in id order.
@@ -126,6 +158,7 @@ impl<T> EntityMap<T> {
             .iter()
             .enumerate()
             .filter_map(|(i, v)| Some((EntityId(i as u32), v.as_ref()?)))
+            .chain(self.beyond.iter().map(|(&id, v)| (id, v)))
     }
 
     /// The ids with a value, in order.
@@ -135,7 +168,7 @@ impl<T> EntityMap<T> {
 
     /// The values in id order.
     pub fn values(&self) -> impl Iterator<Item = &T> {
-        self.rows.iter().flatten()
+        self.rows.iter().flatten().chain(self.beyond.values())
     }
 }
 
@@ -204,13 +237,19 @@ mod tests {
             (3, None),
             (0, Some(5)),
             (41, None),
+            (u32::MAX, Some(6)),
+            (1 << 16, Some(7)),
+            ((1 << 16) - 1, Some(8)),
+            (1 << 16, None),
         ];
         let (tree, map) = both(&ops);
         assert_eq!(map.len(), tree.len());
         assert!(map.iter().map(|(k, v)| (k, *v)).eq(tree.clone()));
-        for id in 0..45 {
+        for id in (0..45).chain([(1 << 16) - 1, 1 << 16, u32::MAX - 1, u32::MAX]) {
             assert_eq!(map.get(EntityId(id)), tree.get(&EntityId(id)));
         }
+        // A far id takes no row for every id below it.
+        assert!(map.rows.len() <= 1 << 16);
         // The same bytes as the tree, and read back.
         let bytes = postcard::to_allocvec(&map).unwrap();
         assert_eq!(bytes, postcard::to_allocvec(&tree).unwrap());
@@ -220,13 +259,14 @@ mod tests {
 
     #[test]
     fn retain_and_equality_ignore_empty_rows() {
-        let (_, mut map) = both(&[(1, Some(1)), (5, Some(5)), (8, Some(8))]);
+        let far = u32::MAX;
+        let (_, mut map) = both(&[(1, Some(1)), (5, Some(5)), (8, Some(8)), (far, Some(5))]);
         let mut visited = Vec::new();
         map.retain(|id, v| {
             visited.push(id.0);
             *v != 5
         });
-        assert_eq!(visited, [1, 5, 8]);
+        assert_eq!(visited, [1, 5, 8, far]);
         assert_eq!(map.len(), 2);
         // Equal to a map that never had row 5 or beyond 8, and not to one with another value.
         let (_, other) = both(&[(8, Some(8)), (1, Some(1))]);
