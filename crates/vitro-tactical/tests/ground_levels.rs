@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{Samples, record, sim, start, town};
+use common::{Samples, plan_drive, record, sim, start, town};
 use vitro::prelude::*;
 use vitro_tactical::actuate::MoveError;
 use vitro_tactical::actuate::ground::{discrete, interpolated, physical};
@@ -30,16 +30,9 @@ fn trip() -> (NodeId, NodeId) {
 }
 
 fn plan(kind: GroundKind, a: NodeId, b: NodeId, types: &TypeBook) -> Track {
-    let (site, roads) = town();
+    let (_, roads) = town();
     let path = roads.drive.path(a, b).unwrap();
-    Track::plan_vehicle(
-        &site,
-        &roads.drive,
-        &path,
-        types.ground(kind),
-        &types.speed_limits,
-    )
-    .unwrap()
+    plan_drive(&roads, &path, kind, types)
 }
 
 struct Run {

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::town;
+use common::{plan_drive, town};
 use vitro::env::NodeId;
 use vitro::trace::TraceHasher;
 use vitro_tactical::entity::roads::Roads;
@@ -34,16 +34,7 @@ fn tracks(roads: &Roads) -> Vec<Track> {
     let mut out = Vec::new();
     for path in trips(&roads.drive, 12) {
         for kind in [GroundKind::Car, GroundKind::CargoTruck] {
-            let plan = || {
-                Track::plan_vehicle(
-                    &site,
-                    &roads.drive,
-                    &path,
-                    types.ground(kind),
-                    &types.speed_limits,
-                )
-                .unwrap()
-            };
+            let plan = || plan_drive(roads, &path, kind, types);
             let cold = plan();
             assert_eq!(cold, plan(), "a warm plan differs from the cold one");
             out.push(cold);

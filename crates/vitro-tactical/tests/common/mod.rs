@@ -9,8 +9,9 @@ use vitro_site::site::{Site, SiteConfig};
 use vitro_site::terrain::Terrain;
 use vitro_tactical::arena::{Arena, Ev};
 use vitro_tactical::entity::roads::Roads;
+use vitro_tactical::entity::route::Track;
 use vitro_tactical::model::Tactical;
-use vitro_tactical::types::TypeBook;
+use vitro_tactical::types::{GroundKind, TypeBook};
 
 /// Kotka on the valley terrain, with its free street graphs.
 pub fn town() -> (Arc<Site>, Arc<Roads>) {
@@ -28,6 +29,20 @@ pub fn town() -> (Arc<Site>, Arc<Roads>) {
         (site, roads)
     })
     .clone()
+}
+
+/// The track of a ground vehicle of `kind` of `types` along `path` on the drive graph of
+/// `roads` (the town's own, or fresh ones).
+pub fn plan_drive(roads: &Roads, path: &[NodeId], kind: GroundKind, types: &TypeBook) -> Track {
+    let (site, _) = town();
+    Track::plan_vehicle(
+        &site,
+        &roads.drive,
+        path,
+        types.ground(kind),
+        &types.speed_limits,
+    )
+    .unwrap()
 }
 
 /// A fresh arena on the town.
