@@ -7,6 +7,7 @@ use vitro_tactical::arena::Arena;
 use vitro_tactical::condition::{Condition, Status};
 use vitro_tactical::entity::Pose;
 use vitro_tactical::sensor::{FriendFoeVision, Sighting};
+use vitro_tactical::world::Side;
 
 /// Friend-or-foe vision ([`FriendFoeVision`]) over the arena's active bodies: range, field
 /// of view, line of sight against terrain and buildings, a detection draw and an
@@ -23,6 +24,42 @@ impl Sensor<Arena> for Vision {
         // The bodies it can see, in id order (from the arena's grid and its memo of looks),
         // drawn for in id order, as in a look at every entity in id order.
         w.look(me, &mine, &self.0, probe.rng("fof"))
+    }
+}
+
+/// [`Vision`] that keeps only the sightings taken for one of `sides` within `within`
+/// metres: the same look and the same draws (every body it can see is drawn for, in id
+/// order), the other sightings left out (a unit that acts only on some sides makes none
+/// for the rest).
+#[derive(Copy, Clone, Debug)]
+pub struct VisionOf {
+    /// The sensor model.
+    pub vision: FriendFoeVision,
+    /// The sides kept (as the look takes them, rightly or not).
+    pub sides: &'static [Side],
+    /// The farthest sighting kept, metres.
+    pub within: f64,
+}
+
+impl VisionOf {
+    /// The sightings of `vision` taken for blue or red (the ones a unit notes or reports).
+    pub fn armed(vision: FriendFoeVision) -> Self {
+        VisionOf {
+            vision,
+            sides: &[Side::Blue, Side::Red],
+            within: f64::INFINITY,
+        }
+    }
+}
+
+impl Sensor<Arena> for VisionOf {
+    type Reading = Vec<Sighting>;
+    fn read(&self, w: &Arena, me: EntityId, probe: &mut Probe<'_>) -> Vec<Sighting> {
+        let Some(mine) = w.body(me) else {
+            return Vec::new();
+        };
+        let keep = |seen_as: Side, d: f64| self.sides.contains(&seen_as) && d <= self.within;
+        w.look_where(me, &mine, &self.vision, probe.rng("fof"), keep)
     }
 }
 

@@ -294,23 +294,31 @@ impl FriendFoeVision {
     /// The draws of a look at a body it can see ([`sighting`](Self::sighting), from what
     /// [`in_sight`](Self::in_sight) knew of it): detection, then identification.
     pub fn draw(&self, s: &InSight, rng: &mut impl Rng) -> Option<Sighting> {
-        if rng.random::<f64>() >= s.p_detect {
-            return None;
-        }
-        let seen_as = if rng.random::<f64>() < self.misidentification {
-            // One of the other sides, uniformly (no list made: a look draws many times).
-            let others = || Side::ALL.into_iter().filter(|o| *o != s.side);
-            let k = rng.random_range(0..others().count());
-            others().nth(k).unwrap_or(s.side)
-        } else {
-            s.side
-        };
+        let seen_as = self.identify(s.p_detect, s.side, rng)?;
         Some(Sighting {
             id: s.id,
             pos: s.pos,
             distance: s.distance,
             bearing: s.bearing,
             seen_as,
+        })
+    }
+
+    /// The draws of [`draw`](Self::draw) for a body of side `side` detected with
+    /// probability `p_detect`: `None` if the detection draw fails, else the side it is
+    /// taken for (the identification draws).
+    #[inline]
+    pub fn identify(&self, p_detect: f64, side: Side, rng: &mut impl Rng) -> Option<Side> {
+        if rng.random::<f64>() >= p_detect {
+            return None;
+        }
+        Some(if rng.random::<f64>() < self.misidentification {
+            // One of the other sides, uniformly (no list made: a look draws many times).
+            let others = || Side::ALL.into_iter().filter(|o| *o != side);
+            let k = rng.random_range(0..others().count());
+            others().nth(k).unwrap_or(side)
+        } else {
+            side
         })
     }
 }

@@ -17,7 +17,7 @@ use super::patrol::PatrolUnit;
 use super::{Reporter, SENSE, last_known, note_friends, tell};
 use crate::act::Pilot;
 use crate::brief::{BLUE, Brief};
-use crate::sense::{GroundView, Myself, Vision};
+use crate::sense::{GroundView, Myself, VisionOf};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -487,7 +487,8 @@ impl Controller for Aircraft {
                     .sense(&Myself)
                     .is_some_and(|(c, _)| c.status == Status::Active);
                 if active {
-                    let seen = cx.sense(&Vision(self.brief.sensors.air.vision()));
+                    // Only the blue and red sightings are noted or reported.
+                    let seen = cx.sense(&VisionOf::armed(self.brief.sensors.air.vision()));
                     note_friends(&mut self.known, &seen, cx.now());
                     self.reporter.report(&seen, cx);
                     let period = SimDuration::from_secs_f64(self.brief.sensors.period_s);

@@ -10,7 +10,7 @@ use super::patrol::attack::{Attacker, PatrolWatch};
 use super::trooper::{DECIDED, TURN};
 use crate::act::{Fire, SetStatus, Walk};
 use crate::brief::Brief;
-use crate::sense::{Myself, Vision, Watched};
+use crate::sense::{Myself, Vision, VisionOf, Watched};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::entity::EntityId;
@@ -99,13 +99,14 @@ impl Adversary {
             return;
         }
         let m = &self.brief.mission;
-        let seen = cx.sense(&Vision(self.brief.sensors.ground.vision()));
+        // The blue ones within reach (the look draws for every body it can see).
+        let seen = cx.sense(&VisionOf {
+            vision: self.brief.sensors.ground.vision(),
+            sides: &[Side::Blue],
+            within: m.attack_range_m,
+        });
         let now = cx.now();
-        let blue: Vec<EntityId> = seen
-            .iter()
-            .filter(|s| s.seen_as == Side::Blue && s.distance <= m.attack_range_m)
-            .map(|s| s.id)
-            .collect();
+        let blue: Vec<EntityId> = seen.iter().map(|s| s.id).collect();
         if !self.aim.is_empty() {
             self.aim.retain(|(id, _)| blue.contains(id));
         }

@@ -5,7 +5,7 @@ use super::air::progress;
 use super::{Reporter, SENSE, last_known, note_friends};
 use crate::act::Drive;
 use crate::brief::{BLUE, Brief};
-use crate::sense::Vision;
+use crate::sense::VisionOf;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::env::NodeId;
@@ -82,7 +82,8 @@ impl Controller for Ugv {
                 cx.set_timer(SimDuration::from_secs(10), PLAN);
             }
             Input::Timer(SENSE) => {
-                let seen = cx.sense(&Vision(self.brief.sensors.ground.vision()));
+                // Only the blue and red sightings are noted or reported.
+                let seen = cx.sense(&VisionOf::armed(self.brief.sensors.ground.vision()));
                 note_friends(&mut self.known, &seen, cx.now());
                 self.reporter.report(&seen, cx);
                 cx.set_timer(

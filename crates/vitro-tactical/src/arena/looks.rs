@@ -2,8 +2,9 @@
 //! a look uses it).
 
 use super::grid::BodyGrid;
-use crate::sensor::{FriendFoeVision, InSight};
-use crate::world::Body;
+use crate::sensor::{FriendFoeVision, InSight, Sighting};
+use crate::world::{Body, Side};
+use vitro::entity::EntityId;
 
 /// The grids of bodies and the memo of looks, behind one lock of the arena.
 #[derive(Debug, Default)]
@@ -57,7 +58,99 @@ pub(super) struct Memo {
     /// The grid's clock when it was computed (in the generation [`Looks::generation`]).
     pub(super) at: u64,
     /// What it could see, in id order (changed in place; the sensor reads it under the lock).
-    pub(super) seen: Vec<InSight>,
+    pub(super) seen: Seen,
+}
+
+/// What a look can see, in id order, split in two parallel lists: what the draws read of
+/// every body (its id, side, detection probability and distance: 24 bytes), and what only a
+/// sighting kept reads (position and bearing). A look walks and draws along the short
+/// records and reads the rest only for the sightings it keeps.
+#[derive(Debug, Default, Clone, PartialEq)]
+pub(crate) struct Seen {
+    /// Per body: id, side, detection probability, distance.
+    pub(super) heads: Vec<Head>,
+    /// Per body (same order): position and bearing.
+    pub(super) tails: Vec<Tail>,
+}
+
+/// What the draws of a look read of a body it can see.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(super) struct Head {
+    /// The entity index.
+    pub(super) id: u32,
+    /// Its true side.
+    pub(super) side: Side,
+    /// Its detection probability.
+    pub(super) p_detect: f64,
+    /// How far, metres.
+    pub(super) distance: f64,
+}
+
+/// The rest of what a look knows of a body it can see.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(super) struct Tail {
+    /// Its true position.
+    pub(super) pos: [f64; 3],
+    /// Direction, radians counter-clockwise from east.
+    pub(super) bearing: f64,
+}
+
+impl Seen {
+    /// The bodies of `list` (in id order), split.
+    pub(super) fn of(list: impl Iterator<Item = InSight>) -> Seen {
+        let (heads, tails) = list.map(split).unzip();
+        Seen { heads, tails }
+    }
+
+    /// How many bodies.
+    pub(super) fn len(&self) -> usize {
+        self.heads.len()
+    }
+
+    /// Body `k`, whole.
+    pub(super) fn get(&self, k: usize) -> InSight {
+        let (h, t) = (self.heads[k], self.tails[k]);
+        InSight {
+            id: EntityId(h.id),
+            pos: t.pos,
+            side: h.side,
+            distance: h.distance,
+            p_detect: h.p_detect,
+            bearing: t.bearing,
+        }
+    }
+
+    /// Every body, whole, in id order.
+    pub(super) fn to_vec(&self) -> Vec<InSight> {
+        (0..self.len()).map(|k| self.get(k)).collect()
+    }
+
+    /// The sighting of body `k` taken for `seen_as`.
+    pub(super) fn sighting(&self, k: usize, seen_as: Side) -> Sighting {
+        let (h, t) = (self.heads[k], self.tails[k]);
+        Sighting {
+            id: EntityId(h.id),
+            pos: t.pos,
+            distance: h.distance,
+            bearing: t.bearing,
+            seen_as,
+        }
+    }
+}
+
+/// A body a look can see, in its two parts.
+fn split(s: InSight) -> (Head, Tail) {
+    let head = Head {
+        id: s.id.0,
+        side: s.side,
+        p_detect: s.p_detect,
+        distance: s.distance,
+    };
+    let tail = Tail {
+        pos: s.pos,
+        bearing: s.bearing,
+    };
+    (head, tail)
 }
 
 /// The looker's body (position, heading, height), as exact bits.
@@ -117,21 +210,26 @@ pub(super) const SCAN_MAX: usize = 4096;
 /// Takes the bodies of the entity indices `ids` (in order) out of `seen` (in id order) and
 /// puts them back where `now_seen` sees them.
 pub(super) fn update(
-    seen: &mut Vec<InSight>,
+    seen: &mut Seen,
     ids: &[u32],
     mut now_seen: impl FnMut(u32) -> Option<InSight>,
 ) {
-    // One pass along the list (short, and read right after by the draws).
+    // One pass along the short records (read right after by the draws).
+    let Seen { heads, tails } = seen;
     let mut at = 0;
     for &e in ids {
-        at += seen[at..].iter().take_while(|s| s.id.0 < e).count();
-        let was = seen.get(at).is_some_and(|s| s.id.0 == e);
-        match (was, now_seen(e)) {
-            (true, Some(s)) => seen[at] = s,
+        at += heads[at..].iter().take_while(|s| s.id < e).count();
+        let was = heads.get(at).is_some_and(|s| s.id == e);
+        match (was, now_seen(e).map(split)) {
+            (true, Some((h, t))) => (heads[at], tails[at]) = (h, t),
             (true, None) => {
-                seen.remove(at);
+                heads.remove(at);
+                tails.remove(at);
             }
-            (false, Some(s)) => seen.insert(at, s),
+            (false, Some((h, t))) => {
+                heads.insert(at, h);
+                tails.insert(at, t);
+            }
             (false, None) => {}
         }
     }
@@ -143,8 +241,58 @@ mod tests {
 
     #[test]
     fn a_memo_is_small() {
-        // The body's bits, the vision's index, the clock and the list (it was 104 bytes and
-        // an `Arc` of 40 more before the vision was named by an index).
-        assert!(std::mem::size_of::<Option<Memo>>() <= 80);
+        // The body's bits, the vision's index, the clock and the two lists (it was 104
+        // bytes and an `Arc` of 40 more before the vision was named by an index).
+        assert!(std::mem::size_of::<Option<Memo>>() <= 112);
+        // What the draws read of a body is 24 bytes (the whole record is 56).
+        assert_eq!(std::mem::size_of::<Head>(), 24);
+    }
+
+    fn body(id: u32, x: f64) -> InSight {
+        InSight {
+            id: EntityId(id),
+            pos: [x, -x, 0.5 * x],
+            side: Side::ALL[id as usize % 3],
+            distance: 2.0 * x,
+            p_detect: 1.0 / (1.0 + x),
+            bearing: 0.1 * x,
+        }
+    }
+
+    #[test]
+    fn the_split_lists_update_as_the_whole_records_did() {
+        // The records as a plain list, updated as before the split, against the split lists.
+        let mut whole: Vec<InSight> = [1, 4, 6, 9, 12]
+            .iter()
+            .map(|&i| body(i, f64::from(i)))
+            .collect();
+        let mut seen = Seen::of(whole.iter().copied());
+        // 4 moves, 6 leaves, 7 and 13 come in, 2 stays out, 12 stays.
+        let now = |e: u32| match e {
+            4 => Some(body(4, 40.0)),
+            7 => Some(body(7, 7.0)),
+            12 => Some(body(12, 12.0)),
+            13 => Some(body(13, 1.0)),
+            _ => None,
+        };
+        let ids = [2, 4, 6, 7, 12, 13];
+        update(&mut seen, &ids, now);
+        for &e in &ids {
+            let at = whole
+                .iter()
+                .position(|s| s.id.0 >= e)
+                .unwrap_or(whole.len());
+            let was = whole.get(at).is_some_and(|s| s.id.0 == e);
+            match (was, now(e)) {
+                (true, Some(s)) => whole[at] = s,
+                (true, None) => drop(whole.remove(at)),
+                (false, Some(s)) => whole.insert(at, s),
+                (false, None) => {}
+            }
+        }
+        assert_eq!(seen.to_vec(), whole);
+        let ids: Vec<u32> = whole.iter().map(|s| s.id.0).collect();
+        assert_eq!(ids, [1, 4, 7, 9, 12, 13]);
+        assert_eq!(seen.get(1).pos, [40.0, -40.0, 20.0]);
     }
 }

@@ -16,9 +16,9 @@
 
 use super::Arena;
 use super::grid::Bodies;
-use super::looks::{LookCounts, Memo, SCAN_MAX, key, update};
+use super::looks::{LookCounts, Memo, SCAN_MAX, Seen, key, update};
 use crate::sensor::{FriendFoeVision, InSight, Sighting};
-use crate::world::Body;
+use crate::world::{Body, Side};
 use rand::Rng;
 use vitro::entity::EntityId;
 
@@ -29,12 +29,10 @@ fn compute(
     mine: &Body,
     v: &FriendFoeVision,
     mut near: Vec<(EntityId, Body)>,
-) -> Vec<InSight> {
+) -> Seen {
     near.retain(|(id, b)| *id != me && v.can_see_by(mine, b, |p, q| arena.visible(p, q)));
     near.sort_unstable_by_key(|(id, _)| *id);
-    near.iter()
-        .map(|(id, b)| v.in_sight(mine, *id, b))
-        .collect()
+    Seen::of(near.iter().map(|(id, b)| v.in_sight(mine, *id, b)))
 }
 
 impl Arena {
@@ -44,7 +42,7 @@ impl Arena {
     /// [`look`](Self::look)). The same answer as examining every active body; remembered per
     /// looker and brought up to date with what changed.
     pub fn in_sight(&self, me: EntityId, mine: &Body, vision: &FriendFoeVision) -> Vec<InSight> {
-        self.with_in_sight(me, mine, vision, <[InSight]>::to_vec)
+        self.with_in_sight(me, mine, vision, Seen::to_vec)
     }
 
     /// One look of `vision` from `me`, whose body is `mine`: the bodies it can see
@@ -58,9 +56,29 @@ impl Arena {
         vision: &FriendFoeVision,
         rng: &mut impl Rng,
     ) -> Vec<Sighting> {
+        self.look_where(me, mine, vision, rng, |_, _| true)
+    }
+
+    /// [`look`](Self::look), keeping only the sightings for which `keep(seen_as, distance)`
+    /// holds: the same draws (for every body it can see, in id order), fewer sightings made.
+    /// The draws read what they need of each body; the rest is read for the kept ones.
+    pub fn look_where(
+        &self,
+        me: EntityId,
+        mine: &Body,
+        vision: &FriendFoeVision,
+        rng: &mut impl Rng,
+        mut keep: impl FnMut(Side, f64) -> bool,
+    ) -> Vec<Sighting> {
         self.with_in_sight(me, mine, vision, |seen| {
-            let mut sightings = Vec::with_capacity(seen.len());
-            sightings.extend(seen.iter().filter_map(|s| vision.draw(s, &mut *rng)));
+            let mut sightings = Vec::new();
+            for (k, h) in seen.heads.iter().enumerate() {
+                if let Some(seen_as) = vision.identify(h.p_detect, h.side, &mut *rng)
+                    && keep(seen_as, h.distance)
+                {
+                    sightings.push(seen.sighting(k, seen_as));
+                }
+            }
             sightings
         })
     }
@@ -72,7 +90,7 @@ impl Arena {
         me: EntityId,
         mine: &Body,
         vision: &FriendFoeVision,
-        f: impl FnOnce(&[InSight]) -> R,
+        f: impl FnOnce(&Seen) -> R,
     ) -> R {
         let Ok(mut guard) = self.vision.lock() else {
             // A panic elsewhere poisoned the lock: examine everything.
