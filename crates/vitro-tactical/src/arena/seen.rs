@@ -12,7 +12,11 @@
 //! fresh look finds, in id order, so the draws that follow are the same too. A look whose
 //! memo is of another body or vision, or older than the log (or than [`SCAN_MAX`] changes),
 //! is computed afresh. The draws of [`Arena::look`] read the remembered list in place (no
-//! copy, no shared pointer to follow).
+//! copy, no shared pointer to follow). The list is kept in two parts ([`Seen`]): the short
+//! records the walk and the draws read for every body (id, side, detection probability,
+//! distance), and the position and bearing a sighting adds, read only for the sightings a
+//! look keeps ([`Arena::look_where`]: a red trooper keeps the blue ones within reach, and
+//! makes no sighting of the cars and comrades it draws for).
 
 use super::Arena;
 use super::grid::Bodies;
