@@ -20,7 +20,7 @@
 
 use super::Arena;
 use super::grid::Bodies;
-use super::looks::{LookCounts, Memo, SCAN_MAX, Seen, key, update};
+use super::looks::{LookCounts, Memo, SCAN_MAX, Seen, key, prefetch, update};
 use crate::sensor::{FriendFoeVision, InSight, Sighting};
 use crate::world::{Body, Side};
 use rand::Rng;
@@ -38,6 +38,11 @@ fn compute(
     near.sort_unstable_by_key(|(id, _)| *id);
     Seen::of(near.iter().map(|(id, b)| v.in_sight(mine, *id, b)))
 }
+
+/// Short records of a memo loaded ahead of the walk (10 cache lines).
+const HEADS_AHEAD: usize = 26;
+/// Bytes of a random stream loaded ahead of the draws (a ChaCha stream is 320).
+const RNG_AHEAD: usize = 512;
 
 impl Arena {
     /// What a look of `vision` from `me`, whose body is `mine`, can see
@@ -74,6 +79,8 @@ impl Arena {
         rng: &mut impl Rng,
         mut keep: impl FnMut(Side, f64) -> bool,
     ) -> Vec<Sighting> {
+        // The draws read the looker's random stream after the look: start loading it.
+        prefetch(std::ptr::from_ref(&*rng), size_of_val(&*rng).min(RNG_AHEAD));
         self.with_in_sight(me, mine, vision, |seen| {
             let mut sightings = Vec::new();
             for (k, h) in seen.heads.iter().enumerate() {
@@ -101,6 +108,11 @@ impl Arena {
             return f(&compute(self, me, mine, vision, Bodies::all(self)));
         };
         let looks = &mut *guard;
+        // The looker's memo is read below, after the grid catches up: start loading it.
+        prefetch(
+            looks.memos.as_ptr().wrapping_add(me.index()),
+            size_of::<Option<Memo>>(),
+        );
         looks.grid.sync(self);
         let (generation, now) = looks.grid.now();
         if generation != looks.generation {
@@ -119,6 +131,13 @@ impl Arena {
             .take()
             .filter(|m| m.key == k && m.vision == v)
             .and_then(|m| {
+                // The walk and the draws read the short records after the changes are gone
+                // through: start loading the first ones.
+                let heads = &m.seen.heads;
+                prefetch(
+                    heads.as_ptr(),
+                    size_of_val(&heads[..heads.len().min(HEADS_AHEAD)]),
+                );
                 let changes = grid.changes_since(m.at)?;
                 (changes.len() <= SCAN_MAX).then_some((m.seen, changes))
             });
