@@ -146,12 +146,17 @@ impl Area {
     }
 
     /// True if the query looks at the cell a change put a body in or took it from (a stray:
-    /// every query does): whether the body could be in its answer before or after.
+    /// every query does): whether the body could be in its answer before or after. A look
+    /// asks it of every change since its last look, so it is a few compares without
+    /// branches: the area's columns and rows are within `0..4096` with `x0 <= x1` and
+    /// `y0 <= y1`, so a column `c` is in `x0..=x1` exactly when `c - x0` (wrapping) is at
+    /// most `x1 - x0`, and [`OFF`] and [`STRAYED`] are beyond every cell.
+    #[inline]
     pub(crate) fn touches(&self, c: &Change) -> bool {
-        let inside = |cr: [u16; 2]| {
-            cr == STRAYED || (cr != OFF && self.holds(i64::from(cr[0]), i64::from(cr[1])))
-        };
-        inside(c.before) || inside(c.after)
+        let [x0, x1, y0, y1] = self.cells;
+        let (x0, w, y0, h) = (x0 as u16, (x1 - x0) as u16, y0 as u16, (y1 - y0) as u16);
+        let inside = |cr: [u16; 2]| (cr[0].wrapping_sub(x0) <= w) & (cr[1].wrapping_sub(y0) <= h);
+        inside(c.before) | inside(c.after) | (c.before == STRAYED) | (c.after == STRAYED)
     }
 }
 
@@ -398,5 +403,65 @@ impl BodyGrid {
             }
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn touches_answers_as_the_range_tests() {
+        // The test as written before: a stray, or a cell (not OFF) in the area's ranges.
+        let slow = |a: &Area, c: &Change| {
+            let inside = |cr: [u16; 2]| {
+                cr == STRAYED || (cr != OFF && a.holds(i64::from(cr[0]), i64::from(cr[1])))
+            };
+            inside(c.before) || inside(c.after)
+        };
+        let values = [
+            0,
+            1,
+            2,
+            5,
+            63,
+            64,
+            100,
+            4094,
+            4095,
+            4096,
+            40000,
+            u16::MAX - 1,
+            u16::MAX,
+        ];
+        let areas = [
+            [0, 0, 0, 0],
+            [0, 4095, 0, 4095],
+            [2, 5, 63, 100],
+            [4095, 4095, 1, 1],
+        ];
+        let mut hits = 0;
+        for cells in areas {
+            let area = Area {
+                x: 0.0,
+                y: 0.0,
+                r: 1.0,
+                cells,
+            };
+            for b0 in values {
+                for b1 in values {
+                    for after in [OFF, STRAYED, [2, 64], [5, 100], [6, 100]] {
+                        let c = Change {
+                            id: 0,
+                            before: [b0, b1],
+                            after,
+                        };
+                        assert_eq!(area.touches(&c), slow(&area, &c), "{cells:?} {c:?}");
+                        hits += usize::from(area.touches(&c));
+                    }
+                }
+            }
+        }
+        assert!(hits > 100, "{hits}");
     }
 }
