@@ -69,3 +69,20 @@ fn tracks_are_the_same_bits_cold_warm_and_as_before() {
     // Frozen from the point-by-point planner (before stretches): every bit of every track.
     assert_eq!(h.finish(), 8579209668051703109);
 }
+
+#[test]
+fn a_one_node_path_is_a_track_at_rest_there() {
+    let (site, roads) = town();
+    let types = TypeBook::builtin();
+    let node = (0..roads.drive.main.len() as u32)
+        .map(NodeId)
+        .find(|n| roads.drive.main[n.0 as usize])
+        .unwrap();
+    let car = plan_drive(&roads, &[node], GroundKind::Car, types);
+    assert_eq!((car.pts.len(), car.length(), car.duration()), (1, 0.0, 0.0));
+    assert_eq!(car.goal(), Some(node));
+    let walk = Track::plan_walk(&site, &roads.walk, &[node], &types.troops, 20.0).unwrap();
+    assert_eq!((walk.pts.len(), walk.duration()), (1, 0.0));
+    // And no path at all: an empty track.
+    assert_eq!(plan_drive(&roads, &[], GroundKind::Car, types).pts.len(), 0);
+}

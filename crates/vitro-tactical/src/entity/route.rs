@@ -145,11 +145,14 @@ impl Track {
             v[i] = v[i].min(reach);
         }
         // A vehicle that cannot climb a grade at all crawls up at a walking pace instead of
-        // never arriving: keep the profile positive away from the two ends.
+        // never arriving: keep the profile positive away from the two ends (none on a track of
+        // one point or two).
         let inner = 1..n.saturating_sub(1);
-        for (vi, li) in v[inner.clone()].iter_mut().zip(&tr.limit[inner]) {
-            if *vi < 0.5 {
-                *vi = 0.5f64.min(*li);
+        if !inner.is_empty() {
+            for (vi, li) in v[inner.clone()].iter_mut().zip(&tr.limit[inner]) {
+                if *vi < 0.5 {
+                    *vi = 0.5f64.min(*li);
+                }
             }
         }
         tr.t = times(&tr.s, &v);
