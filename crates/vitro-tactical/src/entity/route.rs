@@ -18,6 +18,7 @@ use crate::types::{GroundType, SpeedLimits, TroopParams};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::env::NodeId;
+#[cfg(test)]
 use vitro_site::geo::dist;
 use vitro_site::site::Site;
 
@@ -169,12 +170,12 @@ impl Track {
         troops: &TroopParams,
         load: f64,
     ) -> Result<Track, RouteError> {
-        let (mut tr, _) = Self::geometry(site, roads, path, None)?;
+        let (mut tr, pieces) = Self::geometry(site, roads, path, None)?;
         let n = tr.pts.len();
         let mut v = vec![0.0; n];
         let mut t = vec![0.0; n];
         for i in 1..n {
-            let grade = 100.0 * slope(tr.pts[i - 1], tr.pts[i]);
+            let grade = 100.0 * rise_over_run(tr.pts[i - 1], tr.pts[i], pieces.run[i - 1]);
             let speed = troops.walking_speed(load, grade);
             v[i] = speed;
             t[i] = t[i - 1] + (tr.s[i] - tr.s[i - 1]) / speed;
@@ -284,6 +285,7 @@ pub struct Follow {
 }
 
 /// Rise over run from `a` to `b` (0 for a vertical or zero step).
+#[cfg(test)]
 fn slope(a: [f64; 3], b: [f64; 3]) -> f64 {
     rise_over_run(a, b, dist([a[0], a[1]], [b[0], b[1]]))
 }
@@ -324,16 +326,7 @@ impl Pieces {
     /// [`Track::geometry`] gives, built from stretches).
     #[cfg(test)]
     fn of(pts: &[[f64; 3]]) -> Self {
-        let (heading, run) = pts
-            .windows(2)
-            .map(|w| {
-                let (a, b) = (w[0], w[1]);
-                (
-                    libm::atan2(b[1] - a[1], b[0] - a[0]),
-                    dist([a[0], a[1]], [b[0], b[1]]),
-                )
-            })
-            .unzip();
+        let (heading, run) = pts.windows(2).map(|w| piece(w[0], w[1])).unzip();
         Pieces { heading, run }
     }
 }
