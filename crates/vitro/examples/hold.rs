@@ -27,9 +27,8 @@
 //! `ratio: X/Y`, then the floor's own peak memory (the growth of VmHWM over its set-up and
 //! first slice), the bare queue's rate, the three rates per second of CPU time (steadier
 //! than wall time on a loaded machine), the ratio of every slice per CPU second and their
-//! median (the figure least moved by a burst of load on the machine). Where the kernel
-//! counts a thread's CPU time in scheduler ticks (4 ms on the development VM), a slice of
-//! 200,000 events is only a few ticks, so its ratio is coarse; the totals are not.
+//! median (the figure least moved by a burst of load on the machine). CPU time is the
+//! thread's own (`CLOCK_THREAD_CPUTIME_ID`, exact to the nanosecond).
 //!
 //! `--only simulation`, `--only floor` or `--only queue` runs that part alone and prints its
 //! rate: for counting one part's instructions and cache misses (`valgrind --tool=cachegrind`,
@@ -304,10 +303,21 @@ impl Elapsed {
     }
 }
 
-/// The calling thread's CPU time in nanoseconds, from `/proc/thread-self/schedstat`.
+/// The calling thread's CPU time in nanoseconds (`CLOCK_THREAD_CPUTIME_ID`: exact to the
+/// nanosecond, where `/proc/thread-self/schedstat` advances in scheduler ticks of 4 ms on the
+/// development VM, too coarse for a slice of a few tens of milliseconds).
 fn thread_cpu_ns() -> Option<u64> {
-    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    s.split_whitespace().next()?.parse().ok()
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime only writes the timespec it is given, which lives on this stack.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    let (s, ns) = (
+        u64::try_from(ts.tv_sec).ok()?,
+        u64::try_from(ts.tv_nsec).ok()?,
+    );
+    (rc == 0).then_some(s * 1_000_000_000 + ns)
 }
 
 impl Stopwatch {
