@@ -51,11 +51,18 @@ use vitro_tactical::radio::Radio;
 use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile, Validated};
 use vitro_tactical::world::Side;
 
-/// What the listener collects between samples.
+/// What the listener collects between samples: the contacts (for the metrics, taken at
+/// every sample) and, once the scene was asked for ([`Mission::scene`]: a recorder or a
+/// viewer asks for it before it asks for frames), the radio messages for the frames. A run
+/// nobody watches keeps no message (it kept every one of them, to the end of the run).
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 struct Heard {
     contacts: Vec<(SimTime, EntityId)>,
     messages: Vec<vitro_record::MessageEvent>,
+    /// Whether messages are kept (not part of a snapshot: a restored run keeps them once
+    /// its scene is asked for).
+    #[serde(skip)]
+    watched: bool,
 }
 
 /// A mission ready to run: the simulation, the briefing and the referee.
@@ -344,16 +351,22 @@ impl Mission {
     }
 }
 
-/// Collects the contacts and messages of `sim` into `heard` between samples.
+/// Collects the contacts and (when watched) the messages of `sim` into `heard` between
+/// samples.
 fn listen(sim: &mut Simulation<Tactical>, heard: &Arc<Mutex<Heard>>) {
     let sink = heard.clone();
     sim.add_listener(move |f| {
         let Ok(mut h) = sink.lock() else { return };
+        if let Input::Message(env) = &f.input
+            && let Radio::Contact { target, .. } = &env.body
+        {
+            h.contacts.push((f.time, *target));
+        }
+        if !h.watched {
+            return;
+        }
         match &f.input {
             Input::Message(env) => {
-                if let Radio::Contact { target, .. } = &env.body {
-                    h.contacts.push((f.time, *target));
-                }
                 h.messages.push(vitro_record::MessageEvent {
                     t_ns: f.time.as_nanos(),
                     from: env.from.0,

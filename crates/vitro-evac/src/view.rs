@@ -68,8 +68,14 @@ fn lines(site: &Site, mode: Mode) -> Vec<Vec<[f64; 3]>> {
 }
 
 impl Mission {
-    /// The static scene of the mission.
+    /// The static scene of the mission. From the first call on, the radio messages are kept
+    /// for the frames ([`frame`](Self::frame) hands over those since the last frame): a
+    /// recorder or a viewer asks for the scene before it runs, and a run nobody watches keeps
+    /// none.
     pub fn scene(&self) -> Scene {
+        if let Ok(mut h) = self.heard.lock() {
+            h.watched = true;
+        }
         let site = &self.brief.site;
         let e = site.map.extent;
         let [ox, oy] = site.offset;
@@ -105,8 +111,8 @@ impl Mission {
         }
     }
 
-    /// The state now, as a frame; the messages and log lines since the previous frame are
-    /// moved into it.
+    /// The state now, as a frame; the messages (kept once the [scene](Self::scene) was asked
+    /// for) and log lines since the previous frame are moved into it.
     pub fn frame(&mut self) -> Frame {
         let w = self.sim.env();
         let mut entities = Vec::new();

@@ -79,3 +79,42 @@ fn shuffled_ties_are_reproducible_and_the_mission_does_not_depend_on_the_order()
     assert_ne!(a, fifo, "the shuffled run is another run");
     assert!(ma.success, "{ma:?}");
 }
+
+#[test]
+fn a_watched_run_hands_every_message_to_the_frames_and_an_unwatched_one_keeps_none() {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    use vitro::prelude::Input;
+    let mission = || {
+        let mut m = Mission::at_fidelity(SCENARIO, Some(5), Preset::Discrete).expect("builds");
+        m.end = SimTime::from_secs(300);
+        m
+    };
+    // Watched: the scene first, then a frame every sample; every delivered message is in one.
+    let mut m = mission();
+    let delivered = Arc::new(AtomicU64::new(0));
+    let counter = delivered.clone();
+    m.sim.add_listener(move |f| {
+        if matches!(f.input, Input::Message(_)) {
+            counter.fetch_add(1, Ordering::Relaxed);
+        }
+    });
+    m.scene();
+    let (mut framed, mut t) = (0u64, SimTime::ZERO);
+    loop {
+        let going = m.advance(t);
+        framed += m.frame().messages.iter().filter(|e| e.delivered).count() as u64;
+        if !going {
+            break;
+        }
+        t += m.sample;
+    }
+    let delivered = delivered.load(Ordering::Relaxed);
+    assert!(delivered > 100, "{delivered} messages");
+    assert_eq!(framed, delivered);
+    // Unwatched (no scene asked for): the messages are not kept to the end of the run.
+    let mut u = mission();
+    u.run();
+    assert!(u.frame().messages.is_empty());
+    assert_eq!(u.sim.trace_hash(), m.sim.trace_hash());
+}
