@@ -17,6 +17,7 @@ mod look;
 mod looks;
 mod seen;
 mod sight;
+mod tracks;
 
 use crate::condition::Condition;
 use crate::entity::air::{
@@ -26,13 +27,13 @@ use crate::entity::discrete::{AtNode, NodeKind};
 use crate::entity::ground::interpolated::OnGround;
 use crate::entity::ground::physical::{Chassis, Physics, PhysicsError};
 use crate::entity::roads::Roads;
-use crate::entity::route::{Follow, Track};
+use crate::entity::route::Follow;
 use crate::entity::troop::Walker;
 use crate::entity::{Level, Pose};
 use crate::types::{CtolKind, GroundKind, TroopKind, TypeBook, VtolKind};
 use serde::{Deserialize, Serialize};
-use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
+pub(crate) use tracks::TrackCache;
 use vitro::entity::EntityId;
 use vitro::env::{Effects, EntityStorage, NodeId, Probe, Sensor};
 use vitro::event::{EventId, Target};
@@ -181,35 +182,6 @@ pub struct Arena {
     vision: Mutex<looks::Looks>,
     /// Line-of-sight answers so far ([`visible`](Self::visible)).
     sight: Mutex<sight::SightMemo>,
-}
-
-/// Most tracks kept in an arena's cache; it is emptied when full.
-const TRACK_CACHE_MAX: usize = 4096;
-
-/// Planned tracks, shared by the trips that drive them.
-#[derive(Debug, Default)]
-pub(crate) struct TrackCache(HashMap<TrackKey, Arc<Track>>);
-
-/// A cached track: body kind, start, goal, and the level if a calibration stretched it.
-pub(crate) type TrackKey = (NodeKind, NodeId, NodeId, Option<Level>);
-
-impl TrackCache {
-    /// The track of `key`, planned by `plan` the first time.
-    pub(crate) fn get_or_plan<E>(
-        &mut self,
-        key: TrackKey,
-        plan: impl FnOnce() -> Result<Track, E>,
-    ) -> Result<Arc<Track>, E> {
-        if let Some(t) = self.0.get(&key) {
-            return Ok(t.clone());
-        }
-        if self.0.len() >= TRACK_CACHE_MAX {
-            self.0.clear();
-        }
-        let t = Arc::new(plan()?);
-        self.0.insert(key, t.clone());
-        Ok(t)
-    }
 }
 
 impl Arena {
