@@ -44,6 +44,13 @@ pub(crate) trait Bodies {
     fn body(&self, id: EntityId) -> Option<Body>;
     /// Every body that can be seen.
     fn all(&self) -> Vec<(EntityId, Body)>;
+    /// Calls `f` with every body that can be seen, in the order of [`all`](Self::all),
+    /// without gathering them first.
+    fn each(&self, f: &mut dyn FnMut(EntityId, Body)) {
+        for (id, b) in self.all() {
+            f(id, b);
+        }
+    }
 }
 
 impl Mark {
@@ -264,12 +271,14 @@ impl BodyGrid {
     fn resync(&mut self, w: &impl Bodies) {
         self.resyncs += 1;
         let mut found = vec![false; self.bodies.len()];
-        for (id, b) in w.all() {
+        // One body at a time: gathering the bodies of every entity into a list of their
+        // own first was most of the cost of a resync (a fresh allocation every time).
+        w.each(&mut |id, b| {
             if let Some(f) = found.get_mut(id.index()) {
                 *f = true;
             }
             self.put(id, Some(b));
-        }
+        });
         for (i, f) in found.into_iter().enumerate() {
             if !f && self.bodies[i].is_some() {
                 self.put(EntityId(i as u32), None);

@@ -109,6 +109,13 @@ impl Bodies for Arena {
             .filter_map(|(id, _)| Arena::body(self, id).map(|b| (id, b)))
             .collect()
     }
+    fn each(&self, f: &mut dyn FnMut(EntityId, Body)) {
+        for (id, _) in self.conditions.iter() {
+            if let Some(b) = Arena::body(self, id) {
+                f(id, b);
+            }
+        }
+    }
 }
 
 /// The arena's aircraft: its bodies of entities whose role is an aircraft's.
