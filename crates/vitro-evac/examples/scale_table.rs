@@ -2,7 +2,8 @@
 //! a fidelity level for a stretch of simulated time, one row per size.
 //!
 //! `cargo run --release -p vitro-evac --example scale_table -- [--sizes 150,500,2000,10000]
-//!  [--levels discrete,interpolated] [--until S] [--until-big S] [--big N]`
+//!  [--levels discrete,interpolated] [--until S] [--until-big S] [--big N]`, or
+//! `-- --row BLOCKS:LEVEL:UNTIL` for one row in this process (for a profiler); `--help`.
 //!
 //! Each extra block is 100 red troopers and 25 civilian cars (no start: placed by the
 //! mission from the seed), with `hit_probability = 0` so no attack ends the mission early.
@@ -138,8 +139,44 @@ fn arg<'a>(args: &'a [String], key: &str) -> Option<&'a str> {
         .map(String::as_str)
 }
 
+const USAGE: &str = "usage: scale_table [--sizes N,N,..] [--levels LEVEL,..] [--until S] \
+                     [--big N] [--until-big S] | --row BLOCKS:LEVEL:UNTIL";
+
+/// Options that take a value.
+const OPTIONS: [&str; 6] = [
+    "--row",
+    "--sizes",
+    "--levels",
+    "--until",
+    "--big",
+    "--until-big",
+];
+
+/// Every argument an option of [`OPTIONS`] with its value: an unknown or a valueless one
+/// is an error (the table takes minutes; a typo must not run the default one instead).
+fn check(args: &[String]) -> Result<(), String> {
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        if !OPTIONS.contains(&a.as_str()) {
+            return Err(format!("unknown argument {a}"));
+        }
+        if it.next().is_none() {
+            return Err(format!("{a} takes a value"));
+        }
+    }
+    Ok(())
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        println!("{USAGE}");
+        return Ok(());
+    }
+    if let Err(e) = check(&args[1..]) {
+        eprintln!("scale_table: {e}\n{USAGE}");
+        std::process::exit(2);
+    }
     if let Some(spec) = arg(&args, "--row") {
         let parts: Vec<&str> = spec.split(':').collect();
         let [blocks, level, until] = parts.as_slice() else {
