@@ -225,6 +225,14 @@ mod tests {
         for k in 0..64 {
             ints.extend([1u64 << k, (1u64 << k) - 1, (1u64 << k) + 1]);
         }
+        // And values with every bit pattern below their top bit (a 64-bit LCG, cut to each width).
+        let mut x = 0x2545_F491_4F6C_DD1Du64;
+        for k in 1..=64 {
+            x = x
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ints.push(x >> (64 - k));
+        }
         for &n in &ints {
             same(&n);
             same(&(

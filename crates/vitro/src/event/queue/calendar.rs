@@ -19,18 +19,23 @@
 //! tiers in O(len).
 
 use super::radix::{BUCKETS, CHUNK, Entry, Head, NIL, RadixHeap};
-use super::today::Today;
+use super::today::{BIN_BITS, Today};
 
 /// Most days in the ring (the bitmap is 64 words and a one-word summary).
 pub(super) const MAX_DAYS: usize = 4096;
 /// Fewest days in the ring.
 const MIN_DAYS: usize = 64;
-/// Pending events per day (the number of days is rounded to a power of two, within the
-/// bounds above). On the hold benchmark at 10^3 pending (cachegrind, per event), 2 touches
-/// fewer cache lines than 1 (2.3 first-level misses against 2.8) with a few instructions
-/// fewer; 4 misses less still (2.0) but sorts longer days (more instructions). (While today
-/// was a heap, one day per event had beaten two, four and eight.)
-const EVENTS_PER_DAY: usize = 2;
+/// Pending events per day: the ring has `len / EVENTS_PER_DAY` days (rounded to a power of two,
+/// within the bounds above). The days are also made wide enough for the ring to span
+/// [`SPAN_FACTOR`] mean hold distances, so a day of a steady queue holds about
+/// `SPAN_FACTOR * EVENTS_PER_DAY` events (16.7 measured on the hold benchmark). On the hold
+/// benchmark at 10^3 pending (cachegrind, per event), 4 makes 2.0 first-level misses and 0.64
+/// mispredicted branches, against 2.3 and 1.0 with 2 (days of 8 events spread the same
+/// entries over more chunks' cache lines); 8 makes days longer than a sorted list holds
+/// (`today::SORTED_MAX`), sorted as a run: 1.6 mispredicts. (Before today's counting pass, 2
+/// had beaten 1 and 4; while today was a heap, one day per event had beaten two, four and
+/// eight.)
+const EVENTS_PER_DAY: usize = 4;
 /// The ring should cover this many times the mean distance of pushes ahead of now (4 beats
 /// 2, 8 and 16 on the hold benchmark: few events go through the far heap, days stay small).
 const SPAN_FACTOR: u64 = 4;
@@ -182,7 +187,7 @@ impl Calendar {
             }
             (c, n) = (next, CHUNK as u32);
         }
-        self.today.settle();
+        self.today.settle(self.shift.saturating_sub(BIN_BITS));
     }
 
     /// The first non-empty ring bucket at or after `from`, wrapping around.
