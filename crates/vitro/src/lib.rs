@@ -7,7 +7,7 @@
 //! (request/inform, query, subscribe/notify, contract net, token ring) sit on top.
 //!
 //! Layers, lowest first (a module only imports those below it):
-//! `time`, `trace` → `entity`, `rng` → `event` → `env`, `comm` → `sim` → `protocol`.
+//! `time`, `trace`, `hint` → `entity`, `rng` → `event` → `env`, `comm` → `sim` → `protocol`.
 //!
 //! ## The loop: sensor → controller → actuator → storage → sensor
 //!
@@ -68,6 +68,7 @@ pub mod comm;
 pub mod entity;
 pub mod env;
 pub mod event;
+pub mod hint;
 pub mod protocol;
 pub mod rng;
 pub mod sim;

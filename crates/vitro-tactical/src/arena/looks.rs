@@ -200,26 +200,6 @@ impl Looks {
     }
 }
 
-/// Asks the processor to start loading the cache lines of the `bytes` bytes at `p` into its
-/// caches, to be read soon: a hint, with no effect on any result (a no-op off x86-64). A
-/// look reads a few things of its own (the memo, its list, the looker's random stream) that
-/// the looks of the thousands of other lookers in between have pushed out of the caches;
-/// loading them while other work goes on hides part of the wait.
-#[inline(always)]
-pub(super) fn prefetch<T>(p: *const T, bytes: usize) {
-    #[cfg(target_arch = "x86_64")]
-    for off in (0..bytes).step_by(64) {
-        // SAFETY: a prefetch never faults and never writes, whatever the address (and
-        // `wrapping_add` makes no claim about it either).
-        unsafe {
-            use core::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-            _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>().wrapping_add(off));
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (p, bytes);
-}
-
 /// Most visions remembered at once.
 const VISIONS_MAX: usize = 64;
 

@@ -20,11 +20,12 @@
 
 use super::Arena;
 use super::grid::Bodies;
-use super::looks::{LookCounts, Memo, SCAN_MAX, Seen, key, prefetch, update};
+use super::looks::{LookCounts, Memo, SCAN_MAX, Seen, key, update};
 use crate::sensor::{FriendFoeVision, InSight, Sighting};
 use crate::world::{Body, Side};
 use rand::Rng;
 use vitro::entity::EntityId;
+use vitro::hint::prefetch;
 
 /// What a look of `v` from `me` (body `mine`) at the bodies `near` can see, in id order.
 fn compute(

@@ -73,6 +73,8 @@ pub(super) struct Calendar {
     /// End of the ring's window: entries from here on are in `far`.
     horizon: u128,
     today: Today,
+    /// Days moved into `today` so far (a new day's entries are about to be read).
+    pub(super) days_taken: u64,
     /// Bit `d % 64` of word `d / 64` is set iff ring bucket `d` is not empty.
     occupied: [u64; MAX_DAYS / 64],
     /// Bit `w` is set iff word `w` of `occupied` is not zero.
@@ -115,6 +117,7 @@ impl Calendar {
             today_end: day_start(cur_day, 1, shift),
             horizon,
             today: Today::default(),
+            days_taken: 0,
             occupied: [0; MAX_DAYS / 64],
             summary: 0,
             // Keys from the horizon on (the first key of the last day if it is beyond time).
@@ -188,6 +191,12 @@ impl Calendar {
             (c, n) = (next, CHUNK as u32);
         }
         self.today.settle(self.shift.saturating_sub(BIN_BITS));
+        self.days_taken = self.days_taken.wrapping_add(1);
+    }
+
+    /// Today's entries, in no particular order.
+    pub(super) fn today(&self) -> impl Iterator<Item = &Entry> {
+        self.today.iter()
     }
 
     /// The first non-empty ring bucket at or after `from`, wrapping around.
