@@ -42,6 +42,27 @@ pub(super) struct Today {
 pub(super) const BIN_BITS: u32 = 6;
 const BINS: usize = 1 << BIN_BITS;
 const _: () = assert!(SORTED_MAX < u8::MAX as usize, "bin offsets are bytes");
+const _: () = assert!(BINS % 8 == 0, "bins go eight to a word");
+
+/// Turns the bins' counts into where each bin starts when the bins go largest first: bin `b`
+/// gets the sum of the counts of the bins above it. Eight bins at once, as the bytes of a word
+/// (a multiplication by `0x0101…01` sums each byte with the bytes below it; the sums stay
+/// below 256: at most [`SORTED_MAX`] entries).
+#[inline(always)]
+fn bins_to_offsets(at: &mut [u8; BINS]) {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    let mut above = 0u64;
+    for w in at.chunks_exact_mut(8).rev() {
+        let counts = u64::from_le_bytes([w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7]]);
+        // Byte i: the counts of bytes 0..=i; the top byte: the word's total.
+        let upto = counts.wrapping_mul(ONES);
+        let total = upto >> 56;
+        // Byte i: the counts of bytes above i in this word, plus every higher word's.
+        let starts = (total * ONES - upto) + above * ONES;
+        w.copy_from_slice(&starts.to_le_bytes());
+        above += total;
+    }
+}
 
 /// A run drops the entries it has taken once they are this many and at least half of it.
 const RUN_COMPACT: usize = 64;
@@ -137,10 +158,7 @@ impl Today {
         for e in &self.v {
             at[bin(e)] += 1;
         }
-        let mut next = 0;
-        for b in at.iter_mut().rev() {
-            (*b, next) = (next, next + *b);
-        }
+        bins_to_offsets(&mut at);
         self.scratch.clear();
         self.scratch.resize(self.v.len(), Entry::ZERO);
         for e in &self.v {
@@ -307,6 +325,33 @@ mod tests {
                 assert_eq!(t.len(), reference.len());
             }
             drain(&mut t, &mut reference);
+        }
+    }
+
+    #[test]
+    fn bin_offsets_are_the_counts_of_the_bins_above() {
+        let mut x = 5u64;
+        for round in 0..200 {
+            let mut counts = [0u8; BINS];
+            // Up to SORTED_MAX entries, spread at random (or all in one bin).
+            let n = round % (SORTED_MAX + 1);
+            for i in 0..n {
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let b = if round % 7 == 0 {
+                    BINS - 1 - i % 2
+                } else {
+                    (x >> 58) as usize % BINS
+                };
+                counts[b] += 1;
+            }
+            let mut at = counts;
+            bins_to_offsets(&mut at);
+            for b in 0..BINS {
+                let above: usize = counts[b + 1..].iter().map(|&c| usize::from(c)).sum();
+                assert_eq!(usize::from(at[b]), above, "bin {b} of {counts:?}");
+            }
         }
     }
 
