@@ -42,7 +42,7 @@ pub(super) struct Today {
 pub(super) const BIN_BITS: u32 = 6;
 const BINS: usize = 1 << BIN_BITS;
 const _: () = assert!(SORTED_MAX < u8::MAX as usize, "bin offsets are bytes");
-const _: () = assert!(BINS % 8 == 0, "bins go eight to a word");
+const _: () = assert!(BINS.is_multiple_of(8), "bins go eight to a word");
 
 /// Turns the bins' counts into where each bin starts when the bins go largest first: bin `b`
 /// gets the sum of the counts of the bins above it. Eight bins at once, as the bytes of a word
