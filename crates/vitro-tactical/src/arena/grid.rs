@@ -119,18 +119,29 @@ fn within(x: f64, y: f64, r: f64, b: &Body) -> bool {
     dx * dx + dy * dy <= r2
 }
 
+/// A body's position, heading and height as exact bits: what a look of it, or from it,
+/// depends on besides its side.
+pub(super) fn body_bits(b: &Body) -> [u64; 5] {
+    [
+        b.pos[0].to_bits(),
+        b.pos[1].to_bits(),
+        b.pos[2].to_bits(),
+        b.heading.to_bits(),
+        b.height.to_bits(),
+    ]
+}
+
+/// Whether two arrays of bits are equal, folded with XOR and OR: array equality calls
+/// `memcmp` for them (about 1 % of a run at 2,000 entities, over the three places that
+/// compare bodies, looks' keys and visions).
+#[inline]
+pub(super) fn bits_eq(a: &[u64; 5], b: &[u64; 5]) -> bool {
+    a.iter().zip(b).fold(0, |d, (x, y)| d | (x ^ y)) == 0
+}
+
 /// The same body, bit for bit (what vision sees of it cannot differ).
 fn same(a: &Body, b: &Body) -> bool {
-    let bits = |b: &Body| {
-        [
-            b.pos[0].to_bits(),
-            b.pos[1].to_bits(),
-            b.pos[2].to_bits(),
-            b.heading.to_bits(),
-            b.height.to_bits(),
-        ]
-    };
-    a.side == b.side && bits(a) == bits(b)
+    a.side == b.side && bits_eq(&body_bits(a), &body_bits(b))
 }
 
 /// The cell of a body whose position is not finite.

@@ -1,7 +1,7 @@
 //! The memo of looks: per looker, what its last look could see (see [`super::seen`] for how
 //! a look uses it).
 
-use super::grid::BodyGrid;
+use super::grid::{BodyGrid, bits_eq, body_bits};
 use crate::sensor::{FriendFoeVision, InSight, Sighting};
 use crate::world::{Body, Side};
 use vitro::entity::EntityId;
@@ -160,13 +160,7 @@ pub(super) type Key = [u64; 5];
 pub(super) type VisionBits = [u64; 5];
 
 pub(super) fn key(mine: &Body) -> Key {
-    [
-        mine.pos[0].to_bits(),
-        mine.pos[1].to_bits(),
-        mine.pos[2].to_bits(),
-        mine.heading.to_bits(),
-        mine.height.to_bits(),
-    ]
+    body_bits(mine)
 }
 
 pub(super) fn vision_bits(v: &FriendFoeVision) -> VisionBits {
@@ -183,7 +177,7 @@ impl Looks {
     /// The index of vision `v` in [`visions`](Self::visions), added if new (a run has a few).
     pub(super) fn vision_index(&mut self, v: &FriendFoeVision) -> u32 {
         let bits = vision_bits(v);
-        let at = match self.visions.iter().position(|b| *b == bits) {
+        let at = match self.visions.iter().position(|b| bits_eq(b, &bits)) {
             Some(at) => at,
             None => {
                 if self.visions.len() >= VISIONS_MAX {

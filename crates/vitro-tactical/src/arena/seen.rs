@@ -19,7 +19,7 @@
 //! makes no sighting of the cars and comrades it draws for).
 
 use super::Arena;
-use super::grid::Bodies;
+use super::grid::{Bodies, bits_eq};
 use super::looks::{LookCounts, Memo, SCAN_MAX, Seen, key, update};
 use crate::sensor::{FriendFoeVision, InSight, Sighting};
 use crate::world::{Body, Side};
@@ -130,7 +130,7 @@ impl Arena {
         let grid = &looks.grid;
         let fresh = looks.memos[i]
             .take()
-            .filter(|m| m.key == k && m.vision == v)
+            .filter(|m| bits_eq(&m.key, &k) && m.vision == v)
             .and_then(|m| {
                 // The walk and the draws read the short records after the changes are gone
                 // through: start loading the first ones.
