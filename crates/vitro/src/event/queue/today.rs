@@ -279,6 +279,17 @@ mod tests {
         Entry { time, seq, slot: 0 }
     }
 
+    /// A 64-bit linear congruential generator from `seed`: the top `bits` bits of each state.
+    fn lcg(seed: u64, bits: u32) -> impl FnMut() -> u64 {
+        let mut x = seed;
+        move || {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            x >> (64 - bits)
+        }
+    }
+
     /// Pops everything, checking the order against `reference` (sorted keys).
     fn drain(t: &mut Today, reference: &mut std::collections::BTreeSet<u128>) {
         while let Some(&e) = t.peek() {
@@ -291,13 +302,7 @@ mod tests {
 
     #[test]
     fn a_short_day_is_a_sorted_list_and_a_crowded_one_a_run_or_a_heap() {
-        let mut x = 7u64;
-        let mut rand = move || {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            x >> 54
-        };
+        let mut rand = lcg(7, 10);
         for n in [1, 5, SORTED_MAX, SORTED_MAX + 1, 3 * SORTED_MAX] {
             // Filled in bulk (a day taken from the ring), then pushes and pops interleaved.
             let mut t = Today::default();
@@ -330,19 +335,16 @@ mod tests {
 
     #[test]
     fn bin_offsets_are_the_counts_of_the_bins_above() {
-        let mut x = 5u64;
+        let mut rand = lcg(5, 6);
         for round in 0..200 {
             let mut counts = [0u8; BINS];
-            // Up to SORTED_MAX entries, spread at random (or all in one bin).
+            // Up to SORTED_MAX entries, spread at random (or crowded into the top two bins).
             let n = round % (SORTED_MAX + 1);
             for i in 0..n {
-                x = x
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
                 let b = if round % 7 == 0 {
                     BINS - 1 - i % 2
                 } else {
-                    (x >> 58) as usize % BINS
+                    rand() as usize
                 };
                 counts[b] += 1;
             }
@@ -357,13 +359,7 @@ mod tests {
 
     #[test]
     fn a_day_is_binned_by_time_then_sorted() {
-        let mut x = 11u64;
-        let mut rand = move || {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            x >> 41 // 23 bits: a time within a day of 2^23 ns
-        };
+        let mut rand = lcg(11, 23); // a time within a day of 2^23 ns
         let (shift, day) = (23, 977u64);
         let bin_shift = shift - BIN_BITS;
         for n in [3, 8, 17, SORTED_MAX] {
