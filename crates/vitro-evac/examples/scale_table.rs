@@ -31,7 +31,8 @@ use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile};
 const BLOCK_RED: u32 = 100;
 /// Civilian cars in one extra block.
 const BLOCK_CARS: u32 = 25;
-/// Largest group count the text uses (the scenario's per-group limit before issue 19).
+/// Largest group count the text uses (the groups name the entities, so the rows' trace hashes
+/// depend on it).
 const GROUP: u32 = 100;
 
 fn scenario_path() -> String {

@@ -54,7 +54,7 @@ use vitro_tactical::world::Side;
 /// What the listener collects between samples: the contacts (for the metrics, taken at
 /// every sample) and, once the scene was asked for ([`Mission::scene`]: a recorder or a
 /// viewer asks for it before it asks for frames), the radio messages for the frames. A run
-/// nobody watches keeps no message (it kept every one of them, to the end of the run).
+/// nobody watches keeps no message, so its memory does not grow with the messages sent.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 struct Heard {
     contacts: Vec<(SimTime, EntityId)>,

@@ -10,10 +10,10 @@
 //! restarts) Clarabel reaches a loss of 0.500 in 20 LP iterations per search (86 s, 60 LPs,
 //! no failure) where microlp stops at 0.599 (40 s, 42 LPs, one failed solve), and 0.878
 //! against 0.999 in 5 iterations (20 s each) — a better step per LP at about 1.5 times the
-//! time per LP. Microlp stays the default all the same: with Clarabel the branch and bound
-//! no longer certified one of the small test instances (`exact_solutions_match_a_brute_force_grid`)
+//! time per LP. Microlp is the default all the same: with Clarabel the branch and bound does
+//! not certify one of the small test instances (`exact_solutions_match_a_brute_force_grid`)
 //! within its box budget — its relaxation bounds, good to Clarabel's tolerance only, prune
-//! less — and the debug test suite ran longer. Ask for Clarabel
+//! less — and the debug test suite runs longer. Ask for Clarabel
 //! ([`SolveOptions::lp`](super::SolveOptions::lp), [`PlanParams::lp`](super::PlanParams::lp))
 //! for large local searches.
 

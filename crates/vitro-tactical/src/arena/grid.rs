@@ -1,8 +1,8 @@
 //! A uniform grid of the bodies vision looks at, kept in step with the arena's storages.
 //!
-//! Vision used to examine every entity of the arena at every look: a look cost grew with the
-//! number of entities, a second of simulation with its square. The grid answers "the active
-//! bodies within `r` metres (horizontally) of a point" from the cells that box covers.
+//! A look that examined every entity of the arena would cost in proportion to the number of
+//! entities, a second of simulation with its square. The grid answers "the active bodies
+//! within `r` metres (horizontally) of a point" from the cells that box covers.
 //!
 //! It is derived state, never a source of truth: before a query it catches up with the
 //! storages a body depends on ([`Bodies`]: for the arena, the seven pose storages and the

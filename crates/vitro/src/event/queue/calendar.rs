@@ -32,9 +32,8 @@ const MIN_DAYS: usize = 64;
 /// benchmark at 10^3 pending (cachegrind, per event), 4 makes 2.0 first-level misses and 0.64
 /// mispredicted branches, against 2.3 and 1.0 with 2 (days of 8 events spread the same
 /// entries over more chunks' cache lines); 8 makes days longer than a sorted list holds
-/// (`today::SORTED_MAX`), sorted as a run: 1.6 mispredicts. (Before today's counting pass, 2
-/// had beaten 1 and 4; while today was a heap, one day per event had beaten two, four and
-/// eight.)
+/// (`today::SORTED_MAX`), sorted as a run: 1.6 mispredicts. (Without today's counting pass
+/// before its insertion sort, 2 beats 1 and 4.)
 const EVENTS_PER_DAY: usize = 4;
 /// The ring should cover this many times the mean distance of pushes ahead of now (4 beats
 /// 2, 8 and 16 on the hold benchmark: few events go through the far heap, days stay small).
