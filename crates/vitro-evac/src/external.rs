@@ -11,7 +11,8 @@
 //! [`Knowledge`] from the desk and leaves the next commands there between `advance` calls.
 //!
 //! Commands name [`targets`]: the briefed places and route junctions, the same list for
-//! every unit. Runs without external units are built exactly as before (same trace hash).
+//! every unit. Runs without external units are built exactly as if none could be (the same
+//! trace hash).
 
 use crate::act::{Drive, Pilot};
 use crate::agents::{Reporter, SENSE};

@@ -255,7 +255,7 @@ mod tests {
 
     #[test]
     fn the_split_lists_update_as_the_whole_records_did() {
-        // The records as a plain list, updated as before the split, against the split lists.
+        // The records as one plain list of whole records, updated alongside the split lists.
         let mut whole: Vec<InSight> = [1, 4, 6, 9, 12]
             .iter()
             .map(|&i| body(i, f64::from(i)))

@@ -37,7 +37,7 @@
 //! [[`STRETCH_MIN`](super::STRETCH_MIN), [`STRETCH_MAX`](super::STRETCH_MAX)] times the lattice's own time at the commanded speed. So the lattice's own
 //! detours (its zig-zag over the cells, a fixed-wing aircraft's loops) are not the model's to
 //! predict: the fit's target is the concrete time itself. Without a calibration, or without
-//! an `[[aircraft]]` fit for the type, the lattice flies exactly as before.
+//! an `[[aircraft]]` fit for the type, the lattice flies uncalibrated (the same trace hash).
 
 use super::Residuals;
 use crate::entity::Level;
