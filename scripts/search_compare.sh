@@ -31,4 +31,4 @@ done
 dirs=()
 for s in $seeds; do dirs+=("$out/adaptive-$s" "$out/random-$s"); done
 cargo run --release -q -p vitro-cli --example search_compare -- "${dirs[@]}" --out docs/search_failures.png
-rm -f docs/search_failures.svg   # the PNG is the one the README shows
+rm -f docs/search_failures.svg   # the PNG is the one the guide shows (experiments.md)

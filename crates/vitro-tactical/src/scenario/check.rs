@@ -14,7 +14,7 @@ use vitro_site::site::Site;
 /// Largest end time, seconds.
 pub const MAX_END_S: f64 = 1e6;
 /// Most entities in one `[[entity]]` group (a scenario may have many groups: swarms of
-/// tens of thousands run, see the README's scaling table).
+/// tens of thousands run, see the scaling tables in docs/benchmarks.md).
 pub const MAX_COUNT: u32 = 20_000;
 /// Flight altitudes above the ground, metres.
 pub const ALTITUDE_M: (f64, f64) = (20.0, 3000.0);
