@@ -15,8 +15,8 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 use vitro::time::SimTime;
 use vitro_mission::BuildOptions;
-use vitro_viz::server::{Feed, serve};
-use vitro_viz::{LiveRun, McapRecording, Outcome, ReplayFeed, ViewError};
+use vitro_viz::server::{Feed, serve_with};
+use vitro_viz::{HostPolicy, LiveRun, McapRecording, Outcome, ReplayFeed, ViewError};
 
 /// The longest run `--until` accepts, simulated seconds.
 const MAX_UNTIL_S: f64 = 1.0e6;
@@ -40,9 +40,16 @@ pub(crate) struct ViewArgs {
     /// Simulated seconds to run (overrides the scenario's end time).
     #[arg(long, value_name = "SECONDS")]
     until: Option<f64>,
+    /// Also answer to this host name (with a port: only that port), for a viewer served
+    /// under another name on purpose; repeatable. Without it the viewer answers only to
+    /// loopback names and the address it is bound to.
+    #[arg(long = "allow-host", value_name = "NAME")]
+    allow_host: Vec<String>,
 }
 
 pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
+    // Checked before anything runs: a bad name is bad input.
+    hosts(args.addr, &args.allow_host)?;
     let is_recording = args
         .target
         .extension()
@@ -89,7 +96,11 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
         .build()
         .context("starting the server's runtime")
         .map_err(Failure::Runtime)?;
-    let result = runtime.block_on(serve_until_interrupted(args.addr, feed.clone()));
+    let result = runtime.block_on(serve_until_interrupted(
+        args.addr,
+        &args.allow_host,
+        feed.clone(),
+    ));
     if let Feed::Live(run) = &feed {
         let reported = run.outcome().is_some();
         if let (Some(o), false) = (run.stop(), reported) {
@@ -99,7 +110,19 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
     result
 }
 
-async fn serve_until_interrupted(addr: SocketAddr, feed: Feed) -> Result<(), Failure> {
+/// The hosts the viewer on `bound` answers to: loopback names, `bound`, and `allowed`.
+fn hosts(bound: SocketAddr, allowed: &[String]) -> Result<HostPolicy, Failure> {
+    allowed.iter().try_fold(HostPolicy::new(bound), |p, name| {
+        p.allow(name)
+            .map_err(|e| Failure::Input(anyhow::Error::new(e).context("--allow-host")))
+    })
+}
+
+async fn serve_until_interrupted(
+    addr: SocketAddr,
+    allowed: &[String],
+    feed: Feed,
+) -> Result<(), Failure> {
     let listener = tokio::net::TcpListener::bind(addr)
         .await
         .with_context(|| format!("cannot listen on {addr}"))
@@ -108,6 +131,7 @@ async fn serve_until_interrupted(addr: SocketAddr, feed: Feed) -> Result<(), Fai
         .local_addr()
         .context("reading the bound address")
         .map_err(Failure::Runtime)?;
+    let hosts = hosts(bound, allowed)?;
     say(&format!("serving http://{bound}/ (Ctrl-C to stop)"));
     if let Feed::Live(run) = &feed {
         let run = run.clone();
@@ -119,7 +143,7 @@ async fn serve_until_interrupted(addr: SocketAddr, feed: Feed) -> Result<(), Fai
             std::future::pending::<()>().await;
         }
     };
-    serve(listener, feed, shutdown)
+    serve_with(listener, feed, hosts, shutdown)
         .await
         .context("serving the view")
         .map_err(Failure::Runtime)

@@ -187,3 +187,76 @@ fn bad_arguments_are_bad_input() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("cannot listen"), "{err}");
 }
+
+/// The status line of a GET of `path` sent to `addr` with this `Host` (and `Origin`).
+fn http_status(addr: &str, path: &str, host: &str, origin: Option<&str>) -> String {
+    use std::io::{Read as _, Write as _};
+    let mut s = std::net::TcpStream::connect(addr).expect("connect");
+    let origin = origin
+        .map(|o| format!("Origin: {o}\r\n"))
+        .unwrap_or_default();
+    let req = format!("GET {path} HTTP/1.1\r\nHost: {host}\r\n{origin}Connection: close\r\n\r\n");
+    s.write_all(req.as_bytes()).expect("request");
+    let mut raw = Vec::new();
+    s.read_to_end(&mut raw).expect("response");
+    String::from_utf8_lossy(&raw)
+        .lines()
+        .next()
+        .unwrap_or_default()
+        .to_owned()
+}
+
+#[test]
+fn the_viewer_answers_only_to_this_machine_and_to_names_allowed() {
+    let server = Server::start(&[
+        "scenarios/demo.toml",
+        "--addr",
+        "127.0.0.1:0",
+        "--paused",
+        "--allow-host",
+        "viewer.example",
+        "--allow-host",
+        "other.example:9000",
+    ]);
+    let addr = server.addr.as_str();
+    let port = addr.rsplit(':').next().expect("port");
+    let evil = format!("evil.example:{port}");
+    // The DNS rebinding request: another site's name, a matching Origin.
+    let refused = [
+        (evil.as_str(), Some(format!("http://{evil}"))),
+        (evil.as_str(), None),
+        (addr, Some("null".to_owned())),
+        (addr, Some("http://evil.example".to_owned())),
+        ("other.example:8080", None),
+    ];
+    for (host, origin) in &refused {
+        for path in ["/", "/ws", "/js/main.js"] {
+            let line = http_status(addr, path, host, origin.as_deref());
+            assert!(line.contains(" 403 "), "{host} {origin:?} {path}: {line}");
+        }
+    }
+    let local = format!("localhost:{port}");
+    for (host, origin) in [
+        (addr, None),
+        (local.as_str(), Some(format!("http://{local}"))),
+        ("viewer.example", Some("https://viewer.example".to_owned())),
+        ("other.example:9000", None),
+    ] {
+        let line = http_status(addr, "/", host, origin.as_deref());
+        assert!(line.contains(" 200 "), "{host} {origin:?}: {line}");
+    }
+}
+
+#[test]
+fn a_bad_allowed_host_is_bad_input() {
+    let (code, _, err) = vitro(&[
+        "view",
+        "scenarios/demo.toml",
+        "--addr",
+        "127.0.0.1:0",
+        "--allow-host",
+        "a b",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--allow-host"), "{err}");
+}

@@ -24,11 +24,13 @@
 
 pub mod assets;
 mod error;
+pub mod hosts;
 pub mod live;
 pub mod protocol;
 pub mod replay;
 pub mod server;
 
 pub use error::ViewError;
+pub use hosts::{BadHostName, HostPolicy};
 pub use live::{LiveRun, LiveSource, Outcome, SourceError, advance_sim};
 pub use replay::{McapRecording, MemoryRecording, Recording, ReplayFeed};

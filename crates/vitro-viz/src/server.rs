@@ -1,17 +1,23 @@
 //! The HTTP server: the page and its assets from the binary, the state over a WebSocket.
 //!
+//! Every request, the page's, an asset's or the WebSocket's, is answered only if its `Host`
+//! (and its `Origin`, when it sends one) names this machine ([`HostPolicy`]); any other gets
+//! 403 Forbidden.
+//!
 //! Each connection gets its own task. A client that reads slowly only gets fewer frames (it
 //! picks the newest when it is ready); one that stops reading is dropped after
 //! [`SEND_TIMEOUT`]; neither ever blocks the simulation.
 
+use crate::hosts::HostPolicy;
 use crate::live::LiveRun;
 use crate::protocol::{Command, CommandError, MAX_COMMAND_BYTES, ServerMsg, Status};
 use crate::replay::{Player, ReplayFeed};
 use crate::{ViewError, assets};
 use axum::Router;
-use axum::extract::State;
 use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
-use axum::http::{HeaderMap, StatusCode, header};
+use axum::extract::{Request, State};
+use axum::http::{StatusCode, header};
+use axum::middleware::{self, Next};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use std::future::Future;
@@ -35,24 +41,56 @@ pub enum Feed {
     Replay(ReplayFeed),
 }
 
-/// The routes: `/ws` for the WebSocket, every other path an embedded asset (`/` is the page).
-pub fn router(feed: Feed) -> Router {
+/// The routes: `/ws` for the WebSocket, every other path an embedded asset (`/` is the page);
+/// requests that `hosts` does not permit get 403.
+pub fn router(feed: Feed, hosts: HostPolicy) -> Router {
     Router::new()
         .route("/ws", get(upgrade))
         .fallback(asset)
         .with_state(feed)
+        .layer(middleware::from_fn_with_state(hosts, guard))
 }
 
-/// Serves `feed` on `listener` until `shutdown` completes.
+/// Serves `feed` on `listener` until `shutdown` completes, answering only to loopback names
+/// and the address `listener` is bound to.
 pub async fn serve(
     listener: TcpListener,
     feed: Feed,
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> Result<(), ViewError> {
-    axum::serve(listener, router(feed))
+    let bound = listener.local_addr().map_err(ViewError::Bind)?;
+    serve_with(listener, feed, HostPolicy::new(bound), shutdown).await
+}
+
+/// Serves `feed` on `listener` until `shutdown` completes, answering to the hosts `hosts`
+/// permits.
+pub async fn serve_with(
+    listener: TcpListener,
+    feed: Feed,
+    hosts: HostPolicy,
+    shutdown: impl Future<Output = ()> + Send + 'static,
+) -> Result<(), ViewError> {
+    axum::serve(listener, router(feed, hosts))
         .with_graceful_shutdown(shutdown)
         .await
         .map_err(ViewError::Serve)
+}
+
+/// Passes on a request whose `Host` and `Origin` `hosts` permits; answers 403 to any other.
+async fn guard(State(hosts): State<HostPolicy>, request: Request, next: Next) -> Response {
+    let headers = request.headers();
+    let host = headers.get(header::HOST).map(|h| h.as_bytes());
+    let origin = headers.get(header::ORIGIN).map(|o| o.as_bytes());
+    if hosts.permits(host, origin) {
+        next.run(request).await
+    } else {
+        (
+            StatusCode::FORBIDDEN,
+            "forbidden: this viewer answers only to this machine's own addresses \
+             (vitro view --allow-host NAME serves it under another name)",
+        )
+            .into_response()
+    }
 }
 
 async fn asset(uri: axum::http::Uri) -> Response {
@@ -71,12 +109,9 @@ async fn asset(uri: axum::http::Uri) -> Response {
     }
 }
 
-/// Accepts a WebSocket from a page of this server (or from a client that sends no
-/// `Origin`, such as a test or a script), with client messages capped in size.
-async fn upgrade(ws: WebSocketUpgrade, headers: HeaderMap, State(feed): State<Feed>) -> Response {
-    if !same_origin(&headers) {
-        return (StatusCode::FORBIDDEN, "cross-origin WebSocket refused").into_response();
-    }
+/// Accepts a WebSocket (its `Host` and `Origin` checked by [`guard`]), with client messages
+/// capped in size.
+async fn upgrade(ws: WebSocketUpgrade, State(feed): State<Feed>) -> Response {
     ws.max_message_size(MAX_COMMAND_BYTES)
         .max_frame_size(MAX_COMMAND_BYTES)
         .on_upgrade(move |socket| async move {
@@ -86,20 +121,6 @@ async fn upgrade(ws: WebSocketUpgrade, headers: HeaderMap, State(feed): State<Fe
                 Feed::Replay(replay) => replay_client(socket, replay).await,
             };
         })
-}
-
-/// True if the request has no `Origin` or one whose host is the `Host` it was sent to.
-fn same_origin(headers: &HeaderMap) -> bool {
-    let Some(origin) = headers.get(header::ORIGIN) else {
-        return true;
-    };
-    let host = headers.get(header::HOST).and_then(|h| h.to_str().ok());
-    let origin_host = origin
-        .to_str()
-        .ok()
-        .and_then(|o| o.split_once("://"))
-        .map(|(_, rest)| rest.trim_end_matches('/'));
-    matches!((origin_host, host), (Some(o), Some(h)) if o.eq_ignore_ascii_case(h))
 }
 
 /// Why a connection ended (never reported: the client is simply gone).
@@ -251,35 +272,4 @@ async fn blocking<T: Send + 'static>(
     })
     .await
     .map_err(|_| Gone)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn headers(origin: Option<&str>, host: &str) -> HeaderMap {
-        let mut h = HeaderMap::new();
-        h.insert(header::HOST, host.parse().unwrap());
-        if let Some(o) = origin {
-            h.insert(header::ORIGIN, o.parse().unwrap());
-        }
-        h
-    }
-
-    #[test]
-    fn only_same_origin_pages_may_connect() {
-        assert!(same_origin(&headers(None, "127.0.0.1:8080")));
-        assert!(same_origin(&headers(
-            Some("http://127.0.0.1:8080"),
-            "127.0.0.1:8080"
-        )));
-        assert!(!same_origin(&headers(
-            Some("http://evil.example"),
-            "127.0.0.1:8080"
-        )));
-        assert!(!same_origin(&headers(
-            Some("http://127.0.0.1:9999"),
-            "127.0.0.1:8080"
-        )));
-    }
 }
