@@ -92,9 +92,15 @@ pub(crate) fn save(chart: &Chart, stem: &Path) -> Result<Vec<PathBuf>, PlotError
         return Err(fail(&png)("the embedded font could not be loaded".into()));
     }
     {
-        let root = BitMapBackend::new(&png, SIZE).into_drawing_area();
-        draw(&root, chart).map_err(fail(&png))?;
-        root.present().map_err(|e| fail(&png)(e.to_string()))?;
+        // Drawn into memory and encoded by `png` (already built for the maps): plotters' own
+        // file encoder would bring the whole `image` crate for one format.
+        let mut rgb = vec![0u8; SIZE.0 as usize * SIZE.1 as usize * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+            draw(&root, chart).map_err(fail(&png))?;
+            root.present().map_err(|e| fail(&png)(e.to_string()))?;
+        }
+        write_png(&png, &rgb, SIZE).map_err(fail(&png))?;
     }
     {
         let root = SVGBackend::new(&svg, SIZE).into_drawing_area();
@@ -102,6 +108,17 @@ pub(crate) fn save(chart: &Chart, stem: &Path) -> Result<Vec<PathBuf>, PlotError
         root.present().map_err(|e| fail(&svg)(e.to_string()))?;
     }
     Ok(vec![png, svg])
+}
+
+/// Writes 8-bit RGB pixels as a PNG file.
+fn write_png(path: &Path, rgb: &[u8], (width, height): (u32, u32)) -> Result<(), String> {
+    let file = std::fs::File::create(path).map_err(s)?;
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(s)?;
+    writer.write_image_data(rgb).map_err(s)?;
+    writer.finish().map_err(s)
 }
 
 fn s<E: std::fmt::Display>(e: E) -> String {
