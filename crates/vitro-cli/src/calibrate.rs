@@ -64,6 +64,7 @@ pub(crate) struct CalibrateArgs {
 /// The `[site]` of a scenario file: map, terrain (absolute) and offset.
 fn site_of(scenario: &Path) -> Result<(PathBuf, PathBuf, Option<[f64; 2]>), Failure> {
     let bad = |m: String| Failure::Input(anyhow!("{}: {m}", scenario.display()));
+    vitro_tools::input_file(scenario)?;
     let text = std::fs::read_to_string(scenario).map_err(|e| bad(e.to_string()))?;
     let doc: toml::Table = toml::from_str(&text).map_err(|e| bad(e.to_string()))?;
     let site = doc

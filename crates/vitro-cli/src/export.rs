@@ -38,6 +38,7 @@ fn reading(path: &Path, e: ReplayError) -> Failure {
 }
 
 fn export_kml(recording: &Path, out: Option<&Path>) -> Result<(), Failure> {
+    vitro_tools::input_file(recording)?;
     let mut replay = Replay::open(recording).map_err(|e| reading(recording, e))?;
     let mut tracks = kml::Tracks::new();
     for frame in replay.frames() {

@@ -121,15 +121,15 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Input(e)) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", vitro_tools::chain(&*e));
             ExitCode::from(2)
         }
         Err(Failure::Runtime(e)) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", vitro_tools::chain(&*e));
             ExitCode::from(1)
         }
         Err(Failure::Check(e)) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", vitro_tools::chain(&*e));
             ExitCode::from(4)
         }
     }

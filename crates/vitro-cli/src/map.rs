@@ -96,6 +96,7 @@ fn parse_pair(s: &str) -> Result<[f64; 2], String> {
 pub(crate) fn map(cmd: &MapCommand) -> Result<(), Failure> {
     match cmd {
         MapCommand::Info { file, json } => {
+            vitro_tools::input_file(file)?;
             let info = map_info(file).map_err(|e| Failure::Input(e.into()))?;
             if *json {
                 let line =
@@ -138,6 +139,10 @@ fn render(args: &RenderArgs) -> Result<(), Failure> {
             "--width {}: expected 64 to 16384 pixels",
             args.width
         )));
+    }
+    vitro_tools::input_file(&args.file)?;
+    if let Some(t) = &args.terrain {
+        vitro_tools::input_file(t)?;
     }
     let map =
         TownMap::load(&args.file, &MapConfig::default()).map_err(|e| Failure::Input(e.into()))?;
@@ -198,6 +203,7 @@ pub(crate) fn terrain(cmd: &TerrainCommand) -> Result<(), Failure> {
                     )));
                 }
             }
+            vitro_tools::input_file(&a.file)?;
             let sum = viewshed_file(
                 &a.file,
                 a.observer,

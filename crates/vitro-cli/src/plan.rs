@@ -41,6 +41,8 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     } else {
         Planner::Satisficing
     };
+    vitro_tools::input_file(&args.domain)?;
+    vitro_tools::input_file(&args.problem)?;
     let started = Instant::now();
     let result = solve_files(&args.domain, &args.problem, planner).map_err(|e| match e {
         PlanError::Io { .. } | PlanError::Parse(_) => Failure::Input(e.into()),

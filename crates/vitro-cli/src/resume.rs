@@ -47,6 +47,7 @@ fn failure(file: &Path, e: SnapshotError) -> Failure {
 
 pub(crate) fn resume(args: &ResumeArgs) -> Result<(), Failure> {
     let file = &args.snapshot;
+    vitro_tools::input_file(file)?;
     let reader = std::fs::File::open(file).map_err(|e| {
         Failure::Input(anyhow::anyhow!(
             "cannot read snapshot {}: {e}",

@@ -151,7 +151,8 @@ pub(crate) fn drive(
         b
     });
     let mut recorder = match output.record {
-        Some(path) => Some(Recording::create(path, run).map_err(Failure::Runtime)?),
+        // A path that cannot be created (a directory, no such folder) is bad input.
+        Some(path) => Some(Recording::create(path, run).map_err(Failure::Input)?),
         None => None,
     };
     let start = run.now();

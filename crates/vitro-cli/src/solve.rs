@@ -188,12 +188,14 @@ fn patrol_failure(path: &Path, e: PatrolError) -> Failure {
             message,
         } => Failure::Input(anyhow!("{}:{line}:{column}: {message}", path.display())),
         PatrolError::Lp(_) => Failure::Runtime(anyhow!("{}: {e}", path.display())),
+        PatrolError::Io { .. } => Failure::Input(e.into()),
         other => Failure::Input(anyhow!("{}: {other}", path.display())),
     }
 }
 
 fn patrol(args: &PatrolArgs) -> Result<(), Failure> {
     let path = &args.instance;
+    vitro_tools::input_file(path)?;
     let instance = Instance::load(path).map_err(|e| patrol_failure(path, e))?;
     let period = instance.period().map_err(|e| patrol_failure(path, e))?;
     let options = SolveOptions {

@@ -55,6 +55,7 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
     let feed = if is_recording {
+        vitro_tools::input_file(&args.target)?;
         let recording = McapRecording::open(&args.target)
             .with_context(|| format!("cannot replay {}", args.target.display()))
             .map_err(Failure::Input)?;

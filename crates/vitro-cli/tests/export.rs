@@ -48,7 +48,7 @@ fn export_kml_refuses_missing_and_non_mcap_files_with_exit_2() {
     let missing = tmp("missing.mcap");
     let (code, _, err) = vitro(&["export", "kml", &missing]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("no such file"), "{err}");
+    assert!(err.to_lowercase().contains("no such file"), "{err}");
 
     let text = tmp("notes.mcap");
     std::fs::write(&text, "not a recording\n").unwrap();

@@ -44,16 +44,42 @@ pub enum ToolError {
     Runtime(String),
 }
 
-/// An error and its causes, joined by `": "` (as the command prints them).
+/// An error and its causes, joined by `": "` (as the command prints them), each cause said
+/// once: one whose text the message already ends with (an error that shows its source in its
+/// own text, `cannot read X: {source}`) is not repeated.
 pub fn chain(e: &dyn std::error::Error) -> String {
     let mut out = e.to_string();
     let mut cause = e.source();
     while let Some(c) = cause {
-        out.push_str(": ");
-        out.push_str(&c.to_string());
+        let text = c.to_string();
+        if !text.is_empty() && !out.ends_with(&text) {
+            out.push_str(": ");
+            out.push_str(&text);
+        }
         cause = c.source();
     }
     out
+}
+
+/// Checks that `path` is a file that can be opened for reading; a missing, unreadable or
+/// directory path is bad input, said once with the file's name.
+///
+/// # Errors
+///
+/// [`ToolError::Input`] naming `path` and why it cannot be read.
+pub fn input_file(path: &Path) -> Result<(), ToolError> {
+    let why = match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => "a directory, expected a file".to_owned(),
+        Ok(_) => match std::fs::File::open(path) {
+            Ok(_) => return Ok(()),
+            Err(e) => e.to_string(),
+        },
+        Err(e) => e.to_string(),
+    };
+    Err(ToolError::Input(format!(
+        "cannot read {}: {why}",
+        path.display()
+    )))
 }
 
 /// The registry of every mission the tools run: the evacuation, the patrolling-cars demo
@@ -193,6 +219,26 @@ mod tests {
     use super::*;
 
     const DEMO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios/demo.toml");
+
+    /// An error that shows its source in its own text, as many do.
+    #[derive(Debug, thiserror::Error)]
+    #[error("cannot read x: {0}")]
+    struct Shows(#[source] std::io::Error);
+
+    /// An error that does not.
+    #[derive(Debug, thiserror::Error)]
+    #[error("cannot resume")]
+    struct Wraps(#[source] Shows);
+
+    #[test]
+    fn a_chain_says_each_cause_once() {
+        let io = || std::io::Error::new(std::io::ErrorKind::IsADirectory, "Is a directory");
+        assert_eq!(chain(&Shows(io())), "cannot read x: Is a directory");
+        assert_eq!(
+            chain(&Wraps(Shows(io()))),
+            "cannot resume: cannot read x: Is a directory"
+        );
+    }
 
     #[test]
     fn a_driven_run_reports_its_hash_and_the_same_hash_again() {
