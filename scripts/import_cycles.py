@@ -6,8 +6,12 @@
 A file imports another when it names an item of the other's module: `use crate::a::b`,
 `super::x`, `self::child::y`, or a path through one of its own child modules (`child::Z`),
 in a `use` declaration or inline, followed through re-exports to the file that defines it. A
+path in an attribute string counts as the compiler reads it: `#[serde(with = "crate::a::b")]`
+(and `default`, `serialize_with`, `deserialize_with`, `skip_serializing_if`, `from`,
+`try_from`, `into`, `remote`, `getter`) names the module or function it holds, and
+`#[path = "f.rs"] mod x;` makes `f.rs` (beside the declaring file) the module's file. A
 re-export (`pub use child::Item`, a module's facade) counts only where the module's own code
-uses the item. Doc comments and `#[cfg(test)]` modules at the end of a file
+uses the item. Comments, other strings and `#[cfg(test)]` modules at the end of a file
 do not count (a doc link is not an import; `use super::*` in a file's own tests names the file
 itself). Prints each circle (with --why, the names each file takes from the others) (a strongly connected set of two or more files) and exits 1 if any
 crate has one, 0 otherwise.
@@ -20,6 +24,18 @@ from pathlib import Path
 IDENT = r"[A-Za-z_][A-Za-z0-9_]*"
 PATH_RE = re.compile(rf"\b(?:(crate|super|self)|({IDENT}))((?:::{IDENT})+)")
 MOD_DECL = re.compile(rf"^\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+({IDENT})\s*;", re.M)
+# A `mod x;` with the attributes before it (to find a `#[path = "..."]` among them).
+MOD_WITH_ATTRS = re.compile(
+    rf"((?:#\[[^\]]*\]\s*)*)(?:pub(?:\([^)]*\))?\s+)?\bmod\s+({IDENT})\s*;"
+)
+PATH_ATTR = re.compile(r'#\[\s*path\s*=\s*"([^"]*)"\s*\]')
+# The keys of an attribute whose string value is a Rust path the compiler resolves.
+PATH_KEYS = (
+    "with", "default", "serialize_with", "deserialize_with", "skip_serializing_if",
+    "from", "try_from", "into", "remote", "getter",
+)
+PATH_VALUE = re.compile(rf"^\s*(?:::)?{IDENT}(?:::{IDENT})*\s*$")
+KEY_BEFORE = re.compile(rf"\b({IDENT})\s*=\s*$")
 
 
 def module_files(src: Path):
@@ -31,8 +47,13 @@ def module_files(src: Path):
         text = strip(file.read_text())
         is_dir_owner = file.name in ("lib.rs", "main.rs", "mod.rs")
         base = file.parent if is_dir_owner else file.parent / file.stem
-        for name in MOD_DECL.findall(text):
-            for cand in (base / f"{name}.rs", base / name / "mod.rs"):
+        for attrs, name in MOD_WITH_ATTRS.findall(text):
+            at = PATH_ATTR.search(attrs)
+            if at:
+                cands = (file.parent / at.group(1),)
+            else:
+                cands = (base / f"{name}.rs", base / name / "mod.rs")
+            for cand in cands:
                 if cand.exists():
                     visit(path + (name,), cand)
                     break
@@ -44,14 +65,80 @@ def module_files(src: Path):
 
 
 def strip(text: str) -> str:
-    """Source without comments and without a trailing `#[cfg(test)]` module."""
+    """Source without comments and without a trailing `#[cfg(test)]` module; strings are
+    emptied but in attributes: a path an attribute names (`with = "crate::a::b"`) is left
+    bare, as code (`with = crate::a::b`), and a `#[path = "..."]` keeps its string."""
+    text = lex(text)
     m = re.search(r"^#\[cfg\(test\)\]\s*\n\s*mod\s+\w+\s*\{", text, re.M)
     if m:
         text = text[: m.start()]
-    text = re.sub(r"/\*.*?\*/", "", text, flags=re.S)
-    text = re.sub(r"//[^\n]*", "", text)
-    text = re.sub(r'"(?:\\.|[^"\\])*"', '""', text)
     return text
+
+
+def lex(text: str) -> str:
+    """One pass over the source: drops comments (line, nested block), empties string and
+    char literals, and keeps what attributes say in strings (see `strip`)."""
+    out, i, n = [], 0, len(text)
+    attr = []  # bracket depth at which each open attribute (`#[`, `#![`) started
+    depth = 0
+    while i < n:
+        c = text[i]
+        if text.startswith("//", i):
+            j = text.find("\n", i)
+            i = n if j < 0 else j
+        elif text.startswith("/*", i):
+            level, i = 1, i + 2
+            while i < n and level:
+                if text.startswith("/*", i):
+                    level, i = level + 1, i + 2
+                elif text.startswith("*/", i):
+                    level, i = level - 1, i + 2
+                else:
+                    i += 1
+        elif c == "r" and re.match(r'r#*"', text[i:]) and not re.match(r"\w", text[i - 1 : i]):
+            hashes = re.match(r"r(#*)\"", text[i:]).group(1)
+            end = text.find('"' + hashes, i + 2 + len(hashes))
+            i = n if end < 0 else end + 1 + len(hashes)
+            out.append('""')
+        elif c == '"':
+            j = i + 1
+            while j < n and text[j] != '"':
+                j += 2 if text[j] == "\\" else 1
+            value = text[i + 1 : j]
+            i = j + 1
+            out.append(attribute_string(value, "".join(out[-8:]), bool(attr)))
+        elif c == "'":
+            m = re.match(r"'(?:\\(?:x[0-9a-fA-F]{2}|u\{[0-9a-fA-F]+\}|.)|[^'\\])'", text[i:])
+            if m:
+                out.append("' '")
+                i += m.end()
+            else:  # a lifetime or a label
+                out.append(c)
+                i += 1
+        else:
+            if c == "#" and re.match(r"#!?\[", text[i:]):
+                attr.append(depth)
+            elif c == "[":
+                depth += 1
+            elif c == "]":
+                depth -= 1
+                if attr and attr[-1] == depth:
+                    attr.pop()
+            out.append(c)
+            i += 1
+    return "".join(out)
+
+
+def attribute_string(value: str, before: str, in_attribute: bool) -> str:
+    """What a string literal becomes: a path an attribute names, bare; a `#[path]`'s
+    string, kept; any other, empty."""
+    key = KEY_BEFORE.search(before)
+    if in_attribute and key:
+        if key.group(1) == "path":
+            return f'"{value}"'
+        if key.group(1) in PATH_KEYS and PATH_VALUE.match(value):
+            return f" {value.strip()} "
+    return '""'
 
 
 def expand_use(tree: str):

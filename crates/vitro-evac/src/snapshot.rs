@@ -5,128 +5,28 @@
 //! The agents are boxed [`Controller`]s; they are saved as an enum of the mission's agent
 //! kinds ([`agent_kinds!`]), each kind serialized by its own serde derives. What every agent
 //! shares and the scenario rebuilds (the [`Brief`], the solved patrol game) is not written:
-//! such fields are marked `#[serde(with = "crate::snapshot::briefed")]` (or `patrol_game`)
-//! and are taken, on reading, from the run being restored.
+//! such fields are marked `#[serde(with = "vitro_mission::snapshot::briefed")]` and are
+//! taken, on reading, from the run being restored.
 
 use crate::agents::air::Aircraft;
 use crate::agents::commander::Commander;
-use crate::agents::patrol::PatrolGame;
 use crate::agents::red::{Adversary, Hvt};
 use crate::agents::trooper::Trooper;
 use crate::agents::ugv::Ugv;
 use crate::brief::Brief;
 use crate::referee::Referee;
 use crate::{Heard, Mission};
-use serde::de::Error as _;
-use serde::{Deserialize, Deserializer, Serialize, Serializer};
-use std::cell::RefCell;
-use std::sync::Arc;
-use vitro::entity::EntityId;
+use serde::{Deserialize, Serialize};
 use vitro::sim::{SimState, SimStateRef, Simulation};
 use vitro::time::SimTime;
 use vitro::trace::stable_str_hash;
 use vitro_mission::SnapshotError;
+use vitro_mission::snapshot::briefed::Restoring;
 use vitro_tactical::actuate::by_level::Drive;
 use vitro_tactical::arena::{Arena, ArenaState, ArenaStateRef, Ev, site_digest};
 use vitro_tactical::behaviour::route::VisitNodes;
 use vitro_tactical::model::Controller;
 use vitro_tactical::radio::Radio;
-
-/// What a restored agent takes from the run it is restored into.
-struct Shared {
-    brief: Arc<Brief>,
-    game: Option<Arc<PatrolGame>>,
-}
-
-thread_local! {
-    /// Set while a snapshot's agents are read (see [`Restoring`]).
-    static SHARED: RefCell<Option<Shared>> = const { RefCell::new(None) };
-}
-
-/// Holds the shared parts for the agents read on this thread until dropped.
-struct Restoring;
-
-impl Restoring {
-    fn new(shared: Shared) -> Restoring {
-        SHARED.with(|s| *s.borrow_mut() = Some(shared));
-        Restoring
-    }
-}
-
-impl Drop for Restoring {
-    fn drop(&mut self) {
-        SHARED.with(|s| *s.borrow_mut() = None);
-    }
-}
-
-fn shared<T, E: serde::de::Error>(
-    what: &str,
-    f: impl FnOnce(&Shared) -> Option<T>,
-) -> Result<T, E> {
-    SHARED
-        .with(|s| s.borrow().as_ref().and_then(f))
-        .ok_or_else(|| E::custom(format!("no {what} to restore the agents with")))
-}
-
-/// Serde for an agent's `Arc<Brief>`: nothing is written; reading takes the restored run's.
-pub(crate) mod briefed {
-    use super::*;
-    /// Writes nothing (a unit).
-    pub(crate) fn serialize<S: Serializer>(_: &Arc<Brief>, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_unit()
-    }
-    /// The briefing of the run being restored.
-    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Arc<Brief>, D::Error> {
-        <()>::deserialize(d)?;
-        shared("briefing", |s| Some(s.brief.clone()))
-    }
-}
-
-/// Serde for a patrol unit's `Arc<PatrolGame>` (solved once per scenario): nothing is
-/// written; reading takes the restored run's.
-pub(crate) mod patrol_game {
-    use super::*;
-    /// Writes nothing (a unit).
-    pub(crate) fn serialize<S: Serializer>(_: &Arc<PatrolGame>, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_unit()
-    }
-    /// The patrol game of the run being restored.
-    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(
-        d: D,
-    ) -> Result<Arc<PatrolGame>, D::Error> {
-        <()>::deserialize(d)?;
-        shared("patrol game", |s| s.game.clone())
-    }
-}
-
-/// Serde for an optional `(EntityId, &'static str)`: the text is read back as one of the
-/// words the agents use.
-pub(crate) mod static_word {
-    use super::*;
-    /// The words an agent may hold as `&'static str`.
-    const WORDS: [&str; 2] = ["aboard", "arrived"];
-    /// Writes the pair.
-    pub(crate) fn serialize<S: Serializer>(
-        v: &Option<(EntityId, &'static str)>,
-        s: S,
-    ) -> Result<S::Ok, S::Error> {
-        v.serialize(s)
-    }
-    /// Reads the pair; a word the agents do not use is an error.
-    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(
-        d: D,
-    ) -> Result<Option<(EntityId, &'static str)>, D::Error> {
-        let v: Option<(EntityId, String)> = Deserialize::deserialize(d)?;
-        v.map(|(id, w)| {
-            WORDS
-                .iter()
-                .find(|x| **x == w)
-                .map(|x| (id, *x))
-                .ok_or_else(|| D::Error::custom(format!("unknown word {w:?}")))
-        })
-        .transpose()
-    }
-}
 
 /// The agent kinds of the mission, saved as an enum: one declaration makes the borrowed
 /// form (written), the owned form (read), and the conversions from and to a boxed
@@ -236,10 +136,7 @@ impl Mission {
             Some(a.patrol.as_ref()?.game.clone())
         });
         let state: State = {
-            let _shared = Restoring::new(Shared {
-                brief: self.brief.clone(),
-                game,
-            });
+            let _shared = Restoring::new().with(self.brief.clone()).with_some(game);
             postcard::from_bytes(bytes).map_err(|e| SnapshotError::Corrupt(e.to_string()))?
         };
         if state.world != world_digest(&self.brief) {

@@ -4,83 +4,23 @@
 //!
 //! The agents are boxed [`Unit`]s, saved as an enum of the mission's three agent kinds, each
 //! by its own serde derives. Their briefings (shared, rebuilt from the scenario) are not
-//! written: the `brief` fields are marked `#[serde(with = "crate::snapshot::team_brief")]`
-//! (or `station_brief`, `red_brief`) and taken, on reading, from the run being restored.
+//! written: the `brief` fields are marked `#[serde(with = "vitro_mission::snapshot::briefed")]`
+//! and taken, on reading, from the run being restored.
 
 use crate::agents::red::Prowler;
 use crate::agents::station::Station;
 use crate::agents::uav::Uav;
-use crate::brief::{RedBrief, StationBrief, TeamBrief};
 use crate::model::Unit;
 use crate::net::Net;
 use crate::{Heard, Operation};
 use serde::{Deserialize, Serialize};
-use std::cell::RefCell;
 use std::collections::BTreeMap;
-use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::sim::{SimState, SimStateRef, Simulation};
 use vitro::time::SimTime;
 use vitro_mission::SnapshotError;
+use vitro_mission::snapshot::briefed::Restoring;
 use vitro_tactical::arena::{Arena, ArenaState, ArenaStateRef, Ev, site_digest};
-
-/// What restored agents take from the run they are restored into.
-#[derive(Default)]
-struct Shared {
-    team: Option<Arc<TeamBrief>>,
-    station: Option<Arc<StationBrief>>,
-    red: Option<Arc<RedBrief>>,
-}
-
-thread_local! {
-    /// Set while a snapshot's agents are read (see [`Restoring`]).
-    static SHARED: RefCell<Shared> = RefCell::new(Shared::default());
-}
-
-/// Holds the shared parts for the agents read on this thread until dropped.
-struct Restoring;
-
-impl Restoring {
-    fn new(shared: Shared) -> Restoring {
-        SHARED.with(|s| *s.borrow_mut() = shared);
-        Restoring
-    }
-}
-
-impl Drop for Restoring {
-    fn drop(&mut self) {
-        SHARED.with(|s| *s.borrow_mut() = Shared::default());
-    }
-}
-
-/// Serde modules for a shared `Arc` field: nothing is written; reading takes the restored
-/// run's.
-macro_rules! shared_field {
-    ($($module:ident: $ty:ty => $field:ident,)*) => {$(
-        #[doc = concat!("Serde for an agent's `Arc<", stringify!($ty), ">`: written as nothing, read from the run being restored.")]
-        pub(crate) mod $module {
-            use super::*;
-            use serde::{Deserializer, Serializer, de::Error as _};
-            /// Writes nothing (a unit).
-            pub(crate) fn serialize<S: Serializer>(_: &Arc<$ty>, s: S) -> Result<S::Ok, S::Error> {
-                s.serialize_unit()
-            }
-            /// The restored run's.
-            pub(crate) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Arc<$ty>, D::Error> {
-                <()>::deserialize(d)?;
-                SHARED
-                    .with(|s| s.borrow().$field.clone())
-                    .ok_or_else(|| D::Error::custom(concat!("no ", stringify!($ty), " to restore the agents with")))
-            }
-        }
-    )*};
-}
-
-shared_field! {
-    team_brief: TeamBrief => team,
-    station_brief: StationBrief => station,
-    red_brief: RedBrief => red,
-}
 
 /// An agent, borrowed, for saving.
 #[derive(Serialize)]
@@ -187,11 +127,10 @@ impl Operation {
             Some((**a).as_any().downcast_ref::<Prowler>()?.brief().clone())
         });
         let state: State = {
-            let _shared = Restoring::new(Shared {
-                team: Some(self.team.clone()),
-                station: Some(self.tasks.clone()),
-                red,
-            });
+            let _shared = Restoring::new()
+                .with(self.team.clone())
+                .with(self.tasks.clone())
+                .with_some(red);
             postcard::from_bytes(bytes).map_err(|e| SnapshotError::Corrupt(e.to_string()))?
         };
         if state.world != site_digest(&self.team.site) {

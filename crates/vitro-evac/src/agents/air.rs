@@ -81,7 +81,7 @@ pub fn progress(brief: &Brief, p: [f64; 3]) -> usize {
 /// A UAV of the team.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct Aircraft {
-    #[serde(with = "crate::snapshot::briefed")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     brief: Arc<Brief>,
     pilot: Pilot,
     /// What it does.

@@ -66,7 +66,7 @@ pub struct Squad {
 /// The truck's controller.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct Commander {
-    #[serde(with = "crate::snapshot::briefed")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     brief: Arc<Brief>,
     drive: Drive,
     dismount: Dismount,

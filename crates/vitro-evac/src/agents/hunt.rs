@@ -222,7 +222,7 @@ pub enum HuntStep {
 /// The lead pursuer's state.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct Hunt {
-    #[serde(with = "crate::snapshot::briefed")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     brief: Arc<Brief>,
     /// Who is hunted.
     pub target: EntityId,

@@ -27,7 +27,7 @@ use vitro_tactical::world::Side;
 /// A red adversary hiding at a node.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct Adversary {
-    #[serde(with = "crate::snapshot::briefed")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     brief: Arc<Brief>,
     /// Since when it has aimed at each blue unit in range: a handful, sorted by id (a
     /// binary search, where a tree's walk and rebalancing cost more), kept as a map.
@@ -189,7 +189,7 @@ const APPEAR: u64 = 30;
 /// The high-value target: hidden, then evading.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct Hvt {
-    #[serde(with = "crate::snapshot::briefed")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     brief: Arc<Brief>,
     walk: Walk,
     search: Search,

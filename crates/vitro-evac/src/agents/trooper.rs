@@ -60,7 +60,7 @@ pub enum Task {
 /// A blue trooper or the VIP.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct Trooper {
-    #[serde(with = "crate::snapshot::briefed")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     brief: Arc<Brief>,
     walk: Walk,
     /// What it is doing.
@@ -76,7 +76,7 @@ pub struct Trooper {
     last_order: Option<Order>,
     clock: TurnClock,
     /// The last report sent (to whom, what): repeated if the same order comes again.
-    #[serde(with = "crate::snapshot::static_word")]
+    #[serde(with = "report_word")]
     report: Option<(EntityId, &'static str)>,
     /// Its part in the squad walking in formation, if it is in one.
     squad: Option<Squad>,
@@ -592,4 +592,35 @@ impl Controller for Trooper {
 /// The acting entity's own status, if it has a condition.
 fn status(cx: &mut Context<'_, Tactical>) -> Option<Status> {
     cx.sense(&Myself).map(|(c, _)| c.status)
+}
+
+/// Serde for the last report (`Option<(EntityId, &'static str)>`): the text is read back as
+/// one of the words a trooper reports.
+mod report_word {
+    use serde::de::Error as _;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+    use vitro::entity::EntityId;
+    /// The words a trooper reports.
+    const WORDS: [&str; 2] = ["aboard", "arrived"];
+    /// Writes the pair.
+    pub(super) fn serialize<S: Serializer>(
+        v: &Option<(EntityId, &'static str)>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        v.serialize(s)
+    }
+    /// Reads the pair; a word a trooper does not report is an error.
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<(EntityId, &'static str)>, D::Error> {
+        let v: Option<(EntityId, String)> = Deserialize::deserialize(d)?;
+        v.map(|(id, w)| {
+            WORDS
+                .iter()
+                .find(|x| **x == w)
+                .map(|x| (id, *x))
+                .ok_or_else(|| D::Error::custom(format!("unknown word {w:?}")))
+        })
+        .transpose()
+    }
 }

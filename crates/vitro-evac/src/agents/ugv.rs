@@ -22,7 +22,7 @@ const PLAN: u64 = 40;
 /// The unmanned ground vehicle: drives to the route junctions ahead of the truck.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct Ugv {
-    #[serde(with = "crate::snapshot::briefed")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     brief: Arc<Brief>,
     drive: Drive,
     reporter: Reporter,

@@ -24,7 +24,7 @@ const RETRY: SimDuration = SimDuration::from_secs(10);
 /// A red unit on the move.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct Prowler {
-    #[serde(with = "crate::snapshot::red_brief")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     brief: Arc<RedBrief>,
     gait: Gait,
     /// Where it is going.

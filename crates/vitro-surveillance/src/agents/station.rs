@@ -72,7 +72,7 @@ pub struct StationStats {
 /// The ground control station.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct Station {
-    #[serde(with = "crate::snapshot::station_brief")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     brief: Arc<StationBrief>,
     cnet: ContractNet<Net>,
     /// Its picture of the sectors, by id.

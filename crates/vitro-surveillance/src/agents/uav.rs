@@ -73,7 +73,7 @@ pub struct LockSpan {
 /// A UAV of the team.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct Uav {
-    #[serde(with = "crate::snapshot::team_brief")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     brief: Arc<TeamBrief>,
     frame: Airframe,
     cnet: ContractNet<Net>,

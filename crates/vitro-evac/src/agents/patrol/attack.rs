@@ -165,7 +165,7 @@ impl Attack {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Attacker {
     /// The solved game (briefed: the policies and the timetable).
-    #[serde(with = "crate::snapshot::patrol_game")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     pub game: Arc<PatrolGame>,
     /// The Skeldars in plan unit order.
     pub units: Vec<EntityId>,

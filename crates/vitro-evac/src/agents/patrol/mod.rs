@@ -270,7 +270,7 @@ impl PatrolGame {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PatrolUnit {
     /// The solved game (shared by every Skeldar).
-    #[serde(with = "crate::snapshot::patrol_game")]
+    #[serde(with = "vitro_mission::snapshot::briefed")]
     pub game: Arc<PatrolGame>,
     /// Its unit in the plan.
     pub unit: usize,
