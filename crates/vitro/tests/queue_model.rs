@@ -3,10 +3,13 @@
 //! Random sequences of pushes (at equal times, at far-apart times, in the past), cancellations
 //! (of pending, fired, cancelled and forged handles), pops, peeks and postcard round trips.
 //! After a round trip the restored queue runs alongside the original and must answer every
-//! operation exactly as it does, handles included.
+//! operation exactly as it does, handles included. With shuffled ties
+//! ([`EventQueue::shuffle_ties`]) the model knows the current batch of equal-time events and
+//! accepts any of its live events, in any order, but nothing outside it; the restored copy
+//! must still fire exactly what the original fires.
 
 use proptest::prelude::*;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use vitro::event::{EventId, EventQueue, Popped, ScheduleError};
 use vitro::time::SimTime;
 
@@ -77,6 +80,9 @@ struct Model {
     next_seq: u64,
     pending: Vec<(u64, u64, u32)>,
     fate: BTreeMap<u64, Fate>,
+    /// Shuffled ties: the current batch (sequence numbers of live events at `now` that fire,
+    /// in some order, before anything else).
+    batch: BTreeSet<u64>,
 }
 
 impl Model {
@@ -99,7 +105,42 @@ impl Model {
         }
         self.fate.insert(seq, Fate::Cancelled);
         self.pending.retain(|&(_, s, _)| s != seq);
+        self.batch.remove(&seq);
         true
+    }
+    /// Shuffled ties: the batch the next pop draws from (made from every pending event at
+    /// the earliest time when the last batch is done).
+    fn current_batch(&mut self) -> &BTreeSet<u64> {
+        if self.batch.is_empty()
+            && let Some(&(t, _, _)) = self.pending.first()
+        {
+            self.batch = self
+                .pending
+                .iter()
+                .take_while(|&&(u, _, _)| u == t)
+                .map(|&(_, s, _)| s)
+                .collect();
+        }
+        &self.batch
+    }
+    /// Shuffled ties: checks that `seq` may fire now and fires it.
+    fn pop_tied(&mut self, seq: u64) -> Result<(u64, u32), String> {
+        if !self.current_batch().contains(&seq) {
+            return Err(format!(
+                "event {seq} fired outside the batch {:?}",
+                self.batch
+            ));
+        }
+        self.batch.remove(&seq);
+        let i = self
+            .pending
+            .iter()
+            .position(|&(_, s, _)| s == seq)
+            .ok_or("a batch event is pending")?;
+        let (t, _, p) = self.pending.remove(i);
+        self.now = t;
+        self.fate.insert(seq, Fate::Fired);
+        Ok((t, p))
     }
     fn pop(&mut self) -> Option<(u64, u64, u32)> {
         if self.pending.is_empty() {
@@ -111,6 +152,9 @@ impl Model {
         Some(first)
     }
     fn peek(&self) -> Option<u64> {
+        if !self.batch.is_empty() {
+            return Some(self.now);
+        }
         self.pending.first().map(|p| p.0)
     }
 }
@@ -126,9 +170,13 @@ fn fields(id: EventId) -> (u64, u32) {
     postcard::from_bytes(&postcard::to_stdvec(&id).expect("encode")).expect("decode")
 }
 
-/// Runs `ops` on a queue, the model, and (after the first round trip) a restored copy.
-fn run(ops: &[Op]) -> Result<(), TestCaseError> {
+/// Runs `ops` on a queue, the model, and (after the first round trip) a restored copy;
+/// with `shuffle`, on a queue whose ties are shuffled from that seed.
+fn run(ops: &[Op], shuffle: Option<u64>) -> Result<(), TestCaseError> {
     let mut q: EventQueue<u32> = EventQueue::new();
+    if let Some(seed) = shuffle {
+        q.shuffle_ties(seed);
+    }
     let mut model = Model::default();
     let mut shadow: Option<EventQueue<u32>> = None;
     let mut issued: Vec<EventId> = Vec::new();
@@ -214,6 +262,24 @@ fn run(ops: &[Op]) -> Result<(), TestCaseError> {
                     prop_assert_eq!(r.is_pending(id), want);
                 }
             }
+            Op::Pop if shuffle.is_some() => {
+                let got = q.pop();
+                match &got {
+                    None => prop_assert!(model.pending.is_empty()),
+                    Some(popped) => {
+                        let (t, p) = model
+                            .pop_tied(popped.id.seq())
+                            .map_err(TestCaseError::fail)?;
+                        prop_assert_eq!(popped.time, SimTime::from_nanos(t));
+                        prop_assert_eq!(popped.payload, p);
+                        prop_assert!(issued.contains(&popped.id));
+                    }
+                }
+                if let Some(r) = &mut shadow {
+                    let again: Option<Popped<u32>> = r.pop();
+                    prop_assert_eq!(again, got);
+                }
+            }
             Op::Pop => {
                 let got = q.pop();
                 match model.pop() {
@@ -247,11 +313,16 @@ fn run(ops: &[Op]) -> Result<(), TestCaseError> {
                 shadow = Some(r);
             }
             Op::Inspect => {
-                let got: Vec<(u64, u64, u32)> = q
+                let mut got: Vec<(u64, u64, u32)> = q
                     .pending_sorted()
                     .into_iter()
                     .map(|(t, id, &p)| (t.as_nanos(), id.seq(), p))
                     .collect();
+                // In firing order: the rest of the current batch of ties first.
+                let first: BTreeSet<u64> =
+                    got.iter().take(model.batch.len()).map(|e| e.1).collect();
+                prop_assert_eq!(&first, &model.batch);
+                got.sort_unstable_by_key(|&(t, s, _)| (t, s));
                 prop_assert_eq!(&got, &model.pending);
             }
         }
@@ -266,6 +337,19 @@ fn run(ops: &[Op]) -> Result<(), TestCaseError> {
         }
     }
     // Drain: everything left comes out in model order, from both queues alike.
+    if shuffle.is_some() {
+        while let Some(popped) = q.pop() {
+            let (t, p) = model
+                .pop_tied(popped.id.seq())
+                .map_err(TestCaseError::fail)?;
+            prop_assert_eq!((popped.time, popped.payload), (SimTime::from_nanos(t), p));
+            if let Some(r) = &mut shadow {
+                prop_assert_eq!(r.pop(), Some(popped));
+            }
+        }
+        prop_assert!(model.pending.is_empty());
+        return Ok(());
+    }
     while let Some((t, seq, p)) = model.pop() {
         let popped = q
             .pop()
@@ -287,7 +371,15 @@ proptest! {
 
     #[test]
     fn queue_matches_the_model(ops in prop::collection::vec(op(), 1..300)) {
-        run(&ops)?;
+        run(&ops, None)?;
+    }
+
+    #[test]
+    fn a_queue_with_shuffled_ties_matches_the_model(
+        seed in any::<u64>(),
+        ops in prop::collection::vec(op(), 1..300),
+    ) {
+        run(&ops, Some(seed))?;
     }
 }
 
@@ -302,8 +394,11 @@ fn long_runs_match_the_model() {
     let ops = prop::collection::vec(op(), 1000..3000);
     for case in 0..16 {
         let ops = ops.new_tree(&mut runner).expect("a case").current();
-        if let Err(e) = run(&ops) {
+        if let Err(e) = run(&ops, None) {
             panic!("case {case}: {e}");
+        }
+        if let Err(e) = run(&ops, Some(case)) {
+            panic!("case {case}, shuffled ties: {e}");
         }
     }
 }

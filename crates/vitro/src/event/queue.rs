@@ -510,25 +510,28 @@ impl<T> EventQueue<T> {
         }
     }
 
-    /// The pending events in firing order (for snapshots and inspection).
+    /// The pending events in firing order (for snapshots and inspection): with shuffled
+    /// ties, the rest of the current batch first, in the order it fires.
     pub fn pending_sorted(&self) -> Vec<(SimTime, EventId, &T)> {
-        let mut v: Vec<_> = self
-            .heap
-            .iter()
-            .filter_map(|e| match &self.slots[e.slot as usize] {
-                Slot::Pending { seq, payload } if *seq == e.seq => Some((
-                    SimTime::from_nanos(e.time),
-                    EventId {
-                        seq: e.seq,
-                        slot: e.slot,
-                    },
-                    payload,
-                )),
-                _ => None,
-            })
-            .collect();
+        let event = |e: &Entry| match &self.slots[e.slot as usize] {
+            Slot::Pending { seq, payload } if *seq == e.seq => Some((
+                SimTime::from_nanos(e.time),
+                EventId {
+                    seq: e.seq,
+                    slot: e.slot,
+                },
+                payload,
+            )),
+            _ => None,
+        };
+        let mut v: Vec<_> = self.heap.iter().filter_map(event).collect();
         v.sort_unstable_by_key(|(t, id, _)| (*t, id.seq));
-        v
+        match &self.ties {
+            Some(t) if !t.batch.is_empty() => {
+                t.batch.iter().rev().filter_map(event).chain(v).collect()
+            }
+            _ => v,
+        }
     }
 }
 
