@@ -55,13 +55,14 @@
 //!     let track = Track::plan_vehicle(&setup.site, &setup.roads.drive, &path, ty, &setup.types.speed_limits);
 //!     let heading = track.unwrap().heading_at(0.0);
 //!     let mut sim = Simulation::<Tactical>::new(setup.arena(), setup.seed);
-//!     let car = sim.add_agent("car", Box::new(VisitNodes::new(vec![to], goto))).unwrap();
+//!     // The brain: a handle to it, typed.
+//!     let car = sim.add("car", VisitNodes::new(vec![to], goto)).unwrap();
 //!     // The body: a row in the storage of `level`.
-//!     sim.env_mut().add_vehicle(car, GroundKind::Car, level, from, heading).unwrap();
-//!     sim.schedule(SimTime::ZERO, Target::Entity(car), Ev::Start).unwrap();
+//!     sim.env_mut().add_vehicle(car.id(), GroundKind::Car, level, from, heading).unwrap();
+//!     sim.schedule(SimTime::ZERO, Target::Entity(car.id()), Ev::Start).unwrap();
 //!     sim.run_until(SimTime::from_secs(1200));
-//!     let brain = sim.agent(car).and_then(|c| c.as_any().downcast_ref::<VisitNodes<A>>());
-//!     brain.and_then(|v| v.log.last()).map(|&(t, _)| t.as_secs_f64()).unwrap()
+//!     let brain = sim.agent(&car).unwrap();
+//!     brain.log.last().map(|&(t, _)| t.as_secs_f64()).unwrap()
 //! }
 //!
 //! let d = arrival(&setup, Level::Discrete, discrete::GoToNode, from, to);

@@ -3,7 +3,9 @@
 //!
 //! [`Tactical`] is a [`Model`] whose environment is the arena, whose events are [`Ev`] and
 //! whose agents are boxed [`Controller`]s, so that one simulation can hold controllers of
-//! every kind and level (each generic over its top actuator, e.g. `VisitNodes<GoToNode>`).
+//! every kind and level (each generic over its top actuator, e.g. `VisitNodes<GoToNode>`);
+//! a controller added with [`Simulation::add`](vitro::sim::Simulation::add) is read back
+//! by its handle, in its own type.
 //! The environment's own events run the levels: discrete hops and maneuvers, and the
 //! fixed-step clocks of the continuous levels.
 //!
@@ -26,12 +28,12 @@
 //! let (a, b) = (drive.nearest_connected([-300.0, 0.0]).unwrap(),
 //!               drive.nearest_connected([300.0, 100.0]).unwrap());
 //! let mut sim = Simulation::<Tactical>::new(arena, 7);
-//! let car = sim.add_agent("car", Box::new(VisitNodes::new(vec![b], GoToNode))).unwrap();
-//! sim.env_mut().add_vehicle(car, GroundKind::Car, Level::Discrete, a, 0.0).unwrap();
-//! sim.schedule(SimTime::ZERO, Target::Entity(car), Ev::Start).unwrap();
+//! let car = sim.add("car", VisitNodes::new(vec![b], GoToNode)).unwrap();
+//! sim.env_mut().add_vehicle(car.id(), GroundKind::Car, Level::Discrete, a, 0.0).unwrap();
+//! sim.schedule(SimTime::ZERO, Target::Entity(car.id()), Ev::Start).unwrap();
 //! sim.run_until(SimTime::from_secs(3600));
-//! let visit = sim.agent(car).and_then(|c| c.as_any().downcast_ref::<VisitNodes<GoToNode>>());
-//! assert_eq!(visit.unwrap().log.last().map(|&(_, n)| n), Some(b));
+//! let visit: &VisitNodes<GoToNode> = sim.agent(&car).unwrap();
+//! assert_eq!(visit.log.last().map(|&(_, n)| n), Some(b));
 //! ```
 
 use crate::arena::{Arena, Clock, Ev};
@@ -40,7 +42,7 @@ use crate::{actuate, autopilot};
 use std::any::Any;
 use vitro::entity::EntityId;
 use vitro::env::Effects;
-use vitro::sim::{Agent, Context, Input, Model};
+use vitro::sim::{Agent, Context, Holds, Input, Model};
 use vitro::time::SimTime;
 
 /// The tactical model over the [`Arena`].
@@ -92,6 +94,18 @@ pub struct Intention {
 impl Agent<Tactical> for Box<dyn Controller> {
     fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
         (**self).handle(input, cx);
+    }
+}
+
+/// Any controller goes into the model boxed, and comes back out by its type:
+/// [`Simulation::add`](vitro::sim::Simulation::add) returns a handle that
+/// [`Simulation::agent`](vitro::sim::Simulation::agent) reads the controller back by.
+impl<A: Controller> Holds<A> for Box<dyn Controller> {
+    fn hold(agent: A) -> Self {
+        Box::new(agent)
+    }
+    fn held(&self) -> Option<&A> {
+        (**self).as_any().downcast_ref()
     }
 }
 

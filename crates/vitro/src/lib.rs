@@ -86,7 +86,8 @@ pub mod prelude {
     };
     pub use crate::event::{EventId, OwnEventId, Target};
     pub use crate::sim::{
-        Agent, Context, CostModel, Input, Model, RoundId, Simulation, StopReason,
+        Agent, AgentHandle, Context, CostModel, Holds, Input, Model, RoundId, Simulation,
+        StopReason,
     };
     pub use crate::time::{SimDuration, SimTime};
 }

@@ -3,6 +3,7 @@
 use super::agent::{Agent, Input, Model};
 use super::agent::{Context, EventOnly};
 use super::control::{Clock, Control, ControlState, WallClock};
+use super::handle::{AgentHandle, AgentKey, Holds};
 use super::kernel::{Kernel, Queued};
 use super::round::{Round, RoundId};
 use crate::comm::Network;
@@ -135,6 +136,20 @@ impl<M: Model> Simulation<M> {
         Ok(id)
     }
 
+    /// Creates an entity driven by `agent` (as [`add_agent`](Self::add_agent)) and returns
+    /// its typed handle: [`agent`](Self::agent) given the handle returns the `A`.
+    pub fn add<A>(
+        &mut self,
+        name: impl Into<String>,
+        agent: A,
+    ) -> Result<AgentHandle<A>, EntityError>
+    where
+        M::Agent: Holds<A>,
+    {
+        let id = self.add_agent(name, M::Agent::hold(agent))?;
+        Ok(AgentHandle::new(id))
+    }
+
     /// The environment, for set-up and for the experimenter (agents never get it).
     pub fn env(&self) -> &M::Env {
         &self.env
@@ -143,9 +158,13 @@ impl<M: Model> Simulation<M> {
     pub fn env_mut(&mut self) -> &mut M::Env {
         &mut self.env
     }
-    /// The agent of `id`.
-    pub fn agent(&self, id: EntityId) -> Option<&M::Agent> {
-        self.agents.get(id.index()).and_then(Option::as_ref)
+    /// The agent of `key`: of an [`EntityId`], the model's agent; of a handle
+    /// ([`add`](Self::add)), the agent of the handle's type.
+    pub fn agent<K: AgentKey<M>>(&self, key: K) -> Option<&K::Agent> {
+        self.agents
+            .get(key.entity().index())
+            .and_then(Option::as_ref)
+            .and_then(K::pick)
     }
     /// The entity directory.
     pub fn entities(&self) -> &Entities {

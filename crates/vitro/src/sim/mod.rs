@@ -8,6 +8,7 @@
 mod agent;
 pub mod control;
 mod driver;
+mod handle;
 mod kernel;
 mod round;
 mod snapshot;
@@ -15,5 +16,6 @@ mod snapshot;
 pub use agent::{Agent, Context, CostModel, Input, Model};
 pub use control::{Clock, Control, ControlError, ManualClock, WallClock};
 pub use driver::{Fired, Simulation, StopReason};
+pub use handle::{AgentHandle, AgentKey, Holds};
 pub use round::RoundId;
 pub use snapshot::{SimState, SimStateRef, SnapshotError};

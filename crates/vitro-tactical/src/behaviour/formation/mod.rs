@@ -135,21 +135,22 @@
 //!     members.push(m);
 //! }
 //! let leader = Leader::new(LEADER_PROGRAM, members.clone(), params.clone()).unwrap();
-//! assert_eq!(sim.add_agent("leader", Box::new(leader)).unwrap(), leader_id);
+//! let leader = sim.add("leader", leader).unwrap();
+//! assert_eq!(leader.id(), leader_id);
 //! // The caller places the bodies.
 //! for &id in members.iter().chain([&leader_id]) {
 //!     sim.env_mut().add_trooper(id, TroopKind::Blue, Level::Directed, start, 0.0).unwrap();
 //! }
 //! // A commander orders the squad to the goal at t = 1 s.
 //! let order = Radio::Order(Order::GoTo(goal));
-//! let hq = sim.add_agent("hq", Box::new(Script::new(vec![(SimTime::from_secs(1), leader_id, order)]))).unwrap();
-//! for id in [members[0], members[1], leader_id, hq] {
+//! let hq = sim.add("hq", Script::new(vec![(SimTime::from_secs(1), leader_id, order)])).unwrap();
+//! for id in [members[0], members[1], leader_id, hq.id()] {
 //!     sim.schedule(SimTime::ZERO, Target::Entity(id), Ev::Start).unwrap();
 //! }
 //! sim.run_until(SimTime::from_secs(600));
-//! let hq = sim.agent(hq).and_then(|a| a.as_any().downcast_ref::<Script>()).unwrap();
+//! let hq: &Script = sim.agent(&hq).unwrap();
 //! assert!(hq.heard.iter().any(|(_, _, m)| *m == Radio::Signal("arrived".into(), String::new())));
-//! let leader = sim.agent(leader_id).and_then(|a| a.as_any().downcast_ref::<Leader>()).unwrap();
+//! let leader: &Leader = sim.agent(&leader).unwrap();
 //! println!("formation {}, {} track points", leader.formation(), leader.trajectory().len());
 //! ```
 //!
