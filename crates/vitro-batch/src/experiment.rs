@@ -66,12 +66,14 @@ pub struct ExperimentFile {
     pub seed: u64,
     /// Runs per combination of parameter levels (at least 1).
     #[serde(default = "one")]
+    #[schemars(range(min = 1))]
     pub replicates: u32,
     /// Derive seeds from the replicate number instead of the run number, so that every
     /// combination sees the same seeds (common random numbers, for paired comparisons).
     #[serde(default)]
     pub common_random_numbers: bool,
     /// Simulated time at which every run stops, in seconds (overrides the scenario's).
+    #[schemars(extend("exclusiveMinimum" = 0.0))]
     pub end_s: Option<f64>,
     /// Parameters to vary, by dotted scenario key (`"channel.loss"`): a list of levels or a
     /// range `{ start, stop, step }` (stop included). The runs are their full factorial, the
@@ -100,9 +102,11 @@ fn one() -> u32 {
 #[serde(deny_unknown_fields)]
 pub struct LatinHypercube {
     /// Number of points (at least 1).
+    #[schemars(range(min = 1))]
     pub samples: u32,
     /// `[low, high]` of each sampled parameter, by dotted scenario key. Integer keys get
     /// rounded samples.
+    #[schemars(extend("minProperties" = 1))]
     pub intervals: BTreeMap<String, [f64; 2]>,
 }
 
@@ -116,6 +120,7 @@ pub struct KeepFile {
     #[serde(default)]
     pub series: Vec<String>,
     /// Sampling period of the series, in simulated seconds (needed with `series`).
+    #[schemars(extend("exclusiveMinimum" = 0.0))]
     pub every_s: Option<f64>,
 }
 

@@ -32,8 +32,10 @@ pub struct StopFile {
     /// The metric whose mean is estimated (a number, or a boolean as a rate).
     pub metric: String,
     /// Stop a point once the half-width of the 95% CI of the metric's mean is at most this.
+    #[schemars(extend("exclusiveMinimum" = 0.0))]
     pub half_width: f64,
     /// Fewest replicates per point (default 5, at least 2).
+    #[schemars(range(min = 2))]
     pub min_replicates: Option<u32>,
 }
 

@@ -31,24 +31,45 @@
 //! assert!(err.to_string().starts_with("bad.toml:3:9: invalid value -1 for `end_s`"), "{err}");
 //! ```
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::fmt;
+use vitro::time::UtcTime;
+
+/// Makes `kind` a required key of the schema: the tools pick the mission by it.
+fn require_kind(schema: &mut schemars::Schema) {
+    if let Some(required) = schema.get_mut("required").and_then(|r| r.as_array_mut()) {
+        required.insert(0, "kind".into());
+    }
+}
+
+/// The form of `start` in the JSON Schema (the parser also checks the calendar).
+const START_PATTERN: &str = r"^[0-9]{4}-[0-9]{2}-[0-9]{2}[Tt][0-9]{2}:[0-9]{2}:[0-9]{2}(\.[0-9]{1,9})?([Zz]|[+-][0-9]{2}:[0-9]{2})$";
 use std::path::Path;
 use toml::de::DeTable;
 
 /// A whole demo scenario.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(transform = require_kind)]
 pub struct DemoConfig {
     /// The kind of scenario, `"demo"`: the tools pick the mission by it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("const" = "demo"))]
     pub kind: Option<String>,
     /// A short name shown in reports.
     #[serde(default = "default_name")]
     pub name: String,
     /// Master seed of every random stream.
     pub seed: u64,
+    /// When simulated time 0 is on the calendar, RFC 3339 (`"2024-06-01T06:00:00Z"`;
+    /// default 2024-06-01T06:00:00Z): the recording, KML tracks and the viewer's clock
+    /// show it, the simulation never reads it (no trace changes with it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<String>", extend("pattern" = START_PATTERN, "format" = "date-time"))]
+    pub start: Option<UtcTime>,
     /// Simulated time at which the run ends, in seconds.
+    #[schemars(range(max = 1e9), extend("exclusiveMinimum" = 0.0))]
     pub end_s: f64,
     /// The street graph.
     pub town: TownConfig,
@@ -59,16 +80,20 @@ pub struct DemoConfig {
 }
 
 /// The generated town: a grid of junctions with some diagonal streets and a few missing blocks.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TownConfig {
     /// Junctions from west to east (at least 2).
+    #[schemars(range(min = 2, max = 1000))]
     pub columns: u32,
     /// Junctions from south to north (at least 2).
+    #[schemars(range(min = 2, max = 1000))]
     pub rows: u32,
     /// Length of a street between neighbouring junctions, in metres.
+    #[schemars(range(max = 1e6), extend("exclusiveMinimum" = 0.0))]
     pub block_m: f64,
     /// Share of blocks crossed by a diagonal street, in `[0, 1]`.
+    #[schemars(range(min = 0.0, max = 1.0))]
     pub diagonal_share: f64,
     /// Inner junctions removed with their streets (a park or a square merging four blocks).
     /// At most [`TownConfig::max_missing_blocks`]; the town always stays connected.
@@ -76,36 +101,45 @@ pub struct TownConfig {
 }
 
 /// The patrolling cars.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CarsConfig {
     /// Number of cars (at least 1, at most the number of junctions).
+    #[schemars(range(min = 1))]
     pub count: u32,
     /// Cruising speed, in metres per second.
+    #[schemars(range(max = 1e4), extend("exclusiveMinimum" = 0.0))]
     pub speed_mps: f64,
     /// Period of the motion updates, in seconds (positions move continuously between nodes).
     #[serde(default = "default_tick_s")]
+    #[schemars(range(min = 1e-3, max = 3600.0))]
     pub tick_s: f64,
     /// Simulated deliberation cost per junction considered, in microseconds.
     #[serde(default)]
+    #[schemars(range(max = 1_000_000))]
     pub think_us_per_node: u64,
     /// Seconds of idleness one second of travel is worth when picking the next junction
     /// (0: always the least recently visited, wherever it is).
     #[serde(default)]
+    #[schemars(range(min = 0.0, max = 1e3))]
     pub distance_weight: f64,
 }
 
 /// The radio channel: every claim is broadcast through it.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ChannelConfig {
     /// Fixed delivery delay, in milliseconds.
+    #[schemars(range(min = 0.0, max = 3.6e6))]
     pub delay_ms: f64,
     /// Extra delay drawn uniformly in `[0, jitter_ms]`, in milliseconds.
+    #[schemars(range(min = 0.0, max = 3.6e6))]
     pub jitter_ms: f64,
     /// Probability that a copy of a message is lost, in `[0, 1]`.
+    #[schemars(range(min = 0.0, max = 1.0))]
     pub loss: f64,
     /// Range of the radio, in metres; leave it out for unlimited range.
+    #[schemars(extend("exclusiveMinimum" = 0.0))]
     pub range_m: Option<f64>,
 }
 
@@ -341,6 +375,19 @@ impl DemoConfig {
         }
         Ok(())
     }
+}
+
+/// The JSON Schema of demo scenario files (draft 7, for editors): what
+/// `scenarios/demo.schema.json` holds, pretty-printed. The limits that depend on other keys
+/// (missing blocks and cars against the grid's size) are `validate`'s alone.
+///
+/// ```
+/// let schema = vitro_demo::config::json_schema();
+/// assert_eq!(schema.get("title").and_then(|t| t.as_str()), Some("DemoConfig"));
+/// ```
+pub fn json_schema() -> schemars::Schema {
+    let generator = schemars::generate::SchemaSettings::draft07().into_generator();
+    generator.into_root_schema_for::<DemoConfig>()
 }
 
 impl TownConfig {

@@ -203,6 +203,9 @@ impl DemoView {
         ];
         Scene {
             name: self.scenario.config().name.clone(),
+            start_unix_ms: (self.scenario.config().start)
+                .unwrap_or(vitro::time::UtcTime::DEFAULT_START)
+                .unix_millis(),
             // The generated town is on no map: an arbitrary reference, for tools that want one.
             geo: Geo {
                 lat0: 0.0,

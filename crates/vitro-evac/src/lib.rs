@@ -75,6 +75,8 @@ pub struct Mission {
     pub members: Vec<Member>,
     /// The scenario's name.
     pub name: String,
+    /// When simulated time 0 is on the calendar (the scenario's `start`).
+    pub start: vitro::time::UtcTime,
     /// The referee.
     pub referee: Referee,
     /// When the mission ends at the latest.
@@ -152,6 +154,11 @@ impl Mission {
         external: Option<(&[String], &external::SharedDesk)>,
     ) -> Result<Mission, MissionError> {
         let name = v.loaded.file.name.clone();
+        let start = v
+            .loaded
+            .file
+            .start
+            .unwrap_or(vitro::time::UtcTime::DEFAULT_START);
         let seed = seed.unwrap_or(v.loaded.file.seed);
         let end = SimTime::from_secs_f64(v.loaded.file.end.time_s);
         let sample = SimDuration::from_secs_f64(v.loaded.file.record.sample_s.max(0.01));
@@ -177,6 +184,7 @@ impl Mission {
             brief: built.brief,
             members: built.members,
             name,
+            start,
             referee,
             end,
             sample,

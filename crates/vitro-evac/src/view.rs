@@ -86,6 +86,7 @@ impl Mission {
             .collect();
         Scene {
             name: self.name.clone(),
+            start_unix_ms: self.start.unix_millis(),
             geo: geo(site),
             extent: [e[0] + ox, e[1] + oy, e[2] + ox, e[3] + oy],
             streets: lines(site, Mode::Drive),

@@ -211,6 +211,10 @@ pub struct Heightmap {
 pub struct Scene {
     /// Scenario name.
     pub name: String,
+    /// When simulated time 0 is on the calendar (the scenario's `start`), milliseconds
+    /// since 1970-01-01T00:00:00Z, UTC. Absent from older recordings, read as 0.
+    #[serde(default)]
+    pub start_unix_ms: i64,
     /// Geo-reference of the world frame.
     pub geo: Geo,
     /// World extent `[min_x, min_y, max_x, max_y]` of the town, metres.

@@ -2,16 +2,20 @@
 //! places.
 //!
 //! Positions go through the scene's [`Geo`](crate::Geo) (latitude, longitude, altitude above
-//! sea level; `altitudeMode` absolute). Simulated time 0 is written as
-//! 1970-01-01T00:00:00Z (KML times are calendar times), to the millisecond.
+//! sea level; `altitudeMode` absolute). Times are calendar times in UTC, to the
+//! millisecond: simulated time 0 is the scene's start (the scenario's `start`), so Google
+//! Earth's time slider shows the mission's date. Every element is in the order the OGC KML
+//! 2.2 schema (and Google's `gx` extension schema) wants: `scripts/check_kml.py` validates
+//! a file against them.
 //!
 //! ```
 //! use vitro_record::{kml, synthetic};
-//! let scene = synthetic::scene();
+//! let mut scene = synthetic::scene();
+//! scene.start_unix_ms = 1_717_221_600_000; // 2024-06-01T06:00:00Z
 //! let frames = (0..3).map(|i| synthetic::frame(&scene, i, 2));
 //! let doc = kml::export(&scene, frames);
 //! assert_eq!(doc.matches("<gx:Track>").count(), 2);
-//! assert!(doc.contains("<when>1970-01-01T00:00:02Z</when>"));
+//! assert!(doc.contains("<when>2024-06-01T06:00:02Z</when>"));
 //! ```
 
 use crate::draw::{side_color, side_name};
@@ -93,8 +97,8 @@ impl Tracks {
             writeln!(
                 out,
                 "<Style id=\"{id}\"><IconStyle><color>{c}</color><scale>0.8</scale></IconStyle>\
-                 <LineStyle><color>{c}</color><width>2</width></LineStyle>\
-                 <LabelStyle><scale>0.8</scale></LabelStyle></Style>"
+                 <LabelStyle><scale>0.8</scale></LabelStyle>\
+                 <LineStyle><color>{c}</color><width>2</width></LineStyle></Style>"
             )?;
         }
         writeln!(out, "<Folder><name>Places</name>")?;
@@ -122,7 +126,7 @@ impl Tracks {
             )?;
             writeln!(out, "<gx:Track><altitudeMode>absolute</altitudeMode>")?;
             for &(t, _) in &track.samples {
-                writeln!(out, "<when>{}</when>", iso_time(t))?;
+                writeln!(out, "<when>{}</when>", utc_time(scene.start_unix_ms, t))?;
             }
             for &(_, p) in &track.samples {
                 let [lat, lon, alt] = scene.geo.to_wgs84(p);
@@ -175,27 +179,29 @@ fn escape(s: &str) -> String {
 }
 
 /// Year, month, day of a day count since 1970-01-01 (proleptic Gregorian).
-fn civil_from_days(days: i64) -> (i64, u32, u32) {
+fn civil_from_days(days: i64) -> (i64, i64, i64) {
     let z = days + 719_468;
     let era = z.div_euclid(146_097);
     let doe = z.rem_euclid(146_097);
     let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
     let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
     let mp = (5 * doy + 2) / 153;
-    // Day 1..=31 and month 1..=12: the casts are exact.
-    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
-    let y = yoe + era * 400 + i64::from(m <= 2);
-    (y, m, d)
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    (yoe + era * 400 + i64::from(m <= 2), m, d)
 }
 
-/// Simulated nanoseconds as an ISO 8601 UTC time from the Unix epoch, to the millisecond.
-fn iso_time(t_ns: u64) -> String {
-    let secs = t_ns / 1_000_000_000;
-    let ms = (t_ns % 1_000_000_000) / 1_000_000;
-    // u64 seconds / 86400 fits i64.
-    let (y, mo, d) = civil_from_days((secs / 86_400) as i64);
-    let s = secs % 86_400;
+/// Simulated nanoseconds `t_ns` after the start (milliseconds since the Unix epoch) as an
+/// ISO 8601 (RFC 3339) UTC time, to the millisecond.
+pub(crate) fn utc_time(start_unix_ms: i64, t_ns: u64) -> String {
+    // u64 nanoseconds / 1e6 fits i64.
+    let ms_total = start_unix_ms.saturating_add((t_ns / 1_000_000) as i64);
+    let (days, ms) = (
+        ms_total.div_euclid(86_400_000),
+        ms_total.rem_euclid(86_400_000),
+    );
+    let (y, mo, d) = civil_from_days(days);
+    let (s, ms) = (ms / 1000, ms % 1000);
     let (h, mi, s) = (s / 3600, s % 3600 / 60, s % 60);
     if ms == 0 {
         format!("{y:04}-{mo:02}-{d:02}T{h:02}:{mi:02}:{s:02}Z")
@@ -207,6 +213,10 @@ fn iso_time(t_ns: u64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn iso_time(t_ns: u64) -> String {
+        utc_time(0, t_ns)
+    }
 
     #[test]
     fn times_are_iso_8601_calendar_times() {
@@ -222,6 +232,21 @@ mod tests {
             iso_time(1_735_603_200 * 1_000_000_000),
             "2024-12-31T00:00:00Z"
         );
+        // From a start: 2024-06-01T06:00:00Z plus 90.25 s; a start before 1970.
+        assert_eq!(
+            utc_time(1_717_221_600_000, 90_250_000_000),
+            "2024-06-01T06:01:30.250Z"
+        );
+        assert_eq!(utc_time(-1000, 0), "1969-12-31T23:59:59Z");
+    }
+
+    #[test]
+    fn styles_follow_the_schema_order() {
+        let doc = export(&crate::synthetic::scene(), std::iter::empty::<Frame>());
+        let style = &doc[doc.find("<Style ").expect("a style")..];
+        let at = |e: &str| style.find(e).expect(e);
+        assert!(at("<IconStyle>") < at("<LabelStyle>"));
+        assert!(at("<LabelStyle>") < at("<LineStyle>"));
     }
 
     #[test]

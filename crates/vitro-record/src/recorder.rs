@@ -18,7 +18,10 @@
 //!
 //! The two `/vitro/*` channels are lossless: [`crate::Replay`] reads back exactly what was
 //! written. The others are for Foxglove (coordinates rounded to the millimetre) and can be
-//! left out ([`RecordOptions::foxglove`]). Log and publish times are simulated nanoseconds.
+//! left out ([`RecordOptions::foxglove`]). Log and publish times are simulated nanoseconds
+//! since the start of the run (MCAP leaves the epoch to the writer; [`crate::Replay`] seeks
+//! by them): the calendar time of t = 0, the scenario's `start`, is the `start` entry of
+//! the `vitro` metadata record (RFC 3339, UTC) and the scene's `start_unix_ms`.
 //!
 //! # Streaming, and a run killed midway
 //!
@@ -212,6 +215,10 @@ impl<W: Write + Seek> Recorder<W> {
             name: "vitro".to_owned(),
             metadata: BTreeMap::from([
                 ("scene".to_owned(), scene.name.clone()),
+                (
+                    "start".to_owned(),
+                    crate::kml::utc_time(scene.start_unix_ms, 0),
+                ),
                 (
                     "writer".to_owned(),
                     format!("vitro-record {}", env!("CARGO_PKG_VERSION")),

@@ -38,6 +38,7 @@ pub fn scene() -> Scene {
     }
     let mut scene = Scene {
         name: "synthetic town".to_owned(),
+        start_unix_ms: 0,
         geo: Geo {
             lat0: 60.466,
             lon0: 26.945,

@@ -107,6 +107,8 @@ pub struct Operation {
     pub members: Vec<Member>,
     /// The scenario's name.
     pub name: String,
+    /// When simulated time 0 is on the calendar (the scenario's `start`).
+    pub start: vitro::time::UtcTime,
     /// The master seed.
     pub seed: u64,
     /// When the run ends.
@@ -161,6 +163,7 @@ impl Operation {
             };
         }
         let name = v.file.name.clone();
+        let start = v.file.start.unwrap_or(vitro::time::UtcTime::DEFAULT_START);
         let seed = seed.unwrap_or(v.file.seed);
         let end = SimTime::from_secs_f64(v.file.end.time_s);
         let sample = SimDuration::from_secs_f64(v.file.record.sample_s.max(0.01));
@@ -172,6 +175,7 @@ impl Operation {
             sim,
             members: built.members,
             name,
+            start,
             seed,
             end,
             sample,

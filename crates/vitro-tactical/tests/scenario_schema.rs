@@ -50,8 +50,19 @@ fn schema_describes_the_file() {
     required.sort_unstable();
     assert_eq!(
         required,
-        ["end", "entity", "name", "places", "seed", "site"]
+        ["end", "entity", "kind", "name", "places", "seed", "site"]
     );
+    // The checker's bounds are the schema's.
+    let def = &schema["definitions"];
+    assert_eq!(def["ChannelSpec"]["properties"]["loss"]["minimum"], 0.0);
+    assert_eq!(def["ChannelSpec"]["properties"]["loss"]["maximum"], 1.0);
+    assert_eq!(
+        def["EndSpec"]["properties"]["time_s"]["exclusiveMinimum"],
+        0.0
+    );
+    assert_eq!(def["EntitySpec"]["properties"]["count"]["minimum"], 1);
+    assert_eq!(props["kind"]["const"], "evacuation");
+    assert_eq!(props["start"]["format"], "date-time");
     // Defaults reach the schema, so editors show them; absent options are left out.
     assert_eq!(props["repair"]["default"]["strategy"], "repeated_lazy");
     assert_eq!(props["mission"]["default"]["hit_probability"], 0.3);

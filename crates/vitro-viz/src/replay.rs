@@ -284,6 +284,7 @@ mod tests {
     pub(crate) fn scene() -> Scene {
         Scene {
             name: "empty".into(),
+            start_unix_ms: 0,
             geo: Geo {
                 lat0: 0.0,
                 lon0: 0.0,

@@ -17,6 +17,9 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::ops::{Add, AddAssign, Mul, Sub};
 
+pub mod utc;
+pub use utc::{UtcError, UtcTime};
+
 const NANOS_PER_SEC: u64 = 1_000_000_000;
 
 /// An instant of simulated time, in nanoseconds since the start of the run.

@@ -39,17 +39,22 @@ pub struct SearchFile {
     /// The parameters searched, by dotted scenario key (or `seed`): `[low, high]` for a
     /// number, `{ values = [...] }` for a choice.
     #[schemars(with = "BTreeMap<String, serde_json::Value>")]
+    #[schemars(extend("minProperties" = 1))]
     pub parameters: BTreeMap<String, toml::Value>,
     /// Evaluations (runs) of the search (default 120; `--budget` overrides).
+    #[schemars(range(min = 1, max = 1_000_000))]
     pub budget: Option<u64>,
     /// Evaluations per generation (default 20).
+    #[schemars(range(min = 2, max = 10_000))]
     pub population: Option<u32>,
     /// Share of the evaluations so far whose parameters steer the next generation of the
     /// adaptive strategy (default 0.2).
+    #[schemars(extend("exclusiveMinimum" = 0.0, "exclusiveMaximum" = 1.0))]
     pub elite: Option<f64>,
     /// Distinct failures to shrink to a minimal scenario (default 3; 0 for none).
     pub shrink: Option<u32>,
     /// Runs each shrink may use (default 60).
+    #[schemars(range(min = 1))]
     pub shrink_budget: Option<u32>,
 }
 
@@ -57,6 +62,11 @@ pub struct SearchFile {
 /// (then failing runs rank first, the rest by the metric).
 #[derive(Clone, Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(extend("anyOf" = [
+    { "required": ["failure"] },
+    { "required": ["maximise"] },
+    { "required": ["minimise"] }
+]))]
 pub struct ObjectiveFile {
     /// What counts as a failure: `METRIC OP VALUE` (`vip_down == true`, `casualties >= 2`).
     pub failure: Option<String>,

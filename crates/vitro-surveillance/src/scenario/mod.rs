@@ -46,21 +46,31 @@ pub use parse::TOP_LEVEL_KEYS;
 
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
+use vitro::time::UtcTime;
 use vitro_tactical::scenario::{
-    ChannelSpec, EndSpec, EntitySpec, FidelitySpec, RecordSpec, SiteSpec, VisionSpec,
+    ChannelSpec, EndSpec, EntitySpec, FidelitySpec, RecordSpec, START_PATTERN, SiteSpec, VisionSpec,
 };
 
 /// A whole scenario file of the surveillance mission.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(transform = schema_rules)]
 pub struct SurveillanceFile {
     /// The kind of scenario, `"surveillance"`: the tools pick the mission by it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("const" = "surveillance"))]
     pub kind: Option<String>,
     /// A short name for reports.
+    #[schemars(regex(pattern = r"\S"))]
     pub name: String,
     /// Master seed of every random stream of the run.
     pub seed: u64,
+    /// When simulated time 0 is on the calendar, RFC 3339 (`"2024-06-01T06:00:00Z"`;
+    /// default 2024-06-01T06:00:00Z): the recording, KML tracks and the viewer's clock
+    /// show it, the simulation never reads it (no trace changes with it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<String>", extend("pattern" = START_PATTERN, "format" = "date-time"))]
+    pub start: Option<UtcTime>,
     /// When the run stops.
     pub end: EndSpec,
     /// The town and its terrain.
@@ -109,6 +119,36 @@ pub struct SurveillanceFile {
     pub record: RecordSpec,
 }
 
+/// The surveillance mission's rules on top of the shared tables' schemas: `kind` is
+/// required, and every entity is a blue UAV or a red ground unit.
+fn schema_rules(schema: &mut schemars::Schema) {
+    vitro_tactical::scenario::require_kind(schema);
+    let roles = schemars::json_schema!({
+        "anyOf": [
+            {
+                "properties": {
+                    "side": { "const": "blue" },
+                    "type": { "enum": ["procerus", "vidar", "skeldar"] }
+                }
+            },
+            {
+                "properties": {
+                    "side": { "const": "red" },
+                    "type": { "enum": ["trooper", "car", "truck", "ugv"] }
+                }
+            }
+        ]
+    });
+    if let Some(items) = schema
+        .get_mut("properties")
+        .and_then(|p| p.get_mut("entity"))
+        .and_then(|e| e.get_mut("items"))
+    {
+        let entity = items.take();
+        *items = schemars::json_schema!({ "allOf": [entity, roles] }).into();
+    }
+}
+
 /// The ground control station: a command vehicle parked at a junction, whose operator
 /// shares the sectors out by contract net.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -127,8 +167,10 @@ pub struct SearchSpec {
     pub area: Option<[f64; 4]>,
     /// Largest side of a sector, metres: each area is cut into the fewest equal columns
     /// and rows no wider than this.
+    #[schemars(range(min = 50.0, max = 10_000.0))]
     pub sector_m: f64,
     /// Distance between the parallel tracks a UAV flies over a sector, metres.
+    #[schemars(range(min = 10.0, max = 10_000.0))]
     pub spacing_m: f64,
 }
 
@@ -147,6 +189,7 @@ impl Default for SearchSpec {
 #[serde(deny_unknown_fields)]
 pub struct AreaSpec {
     /// When the tasking reaches the station, seconds after the start.
+    #[schemars(range(min = 0.0, max = 1e6))]
     pub appear_s: f64,
     /// The area, town metres `[x_min, y_min, x_max, y_max]`, cut into sectors like the
     /// search area.
@@ -160,6 +203,7 @@ pub struct LossSpec {
     /// The UAV's name (`name` of its entity, or `name-i` in a group).
     pub uav: String,
     /// When, seconds after the start.
+    #[schemars(range(min = 0.0, max = 1e6))]
     pub at_s: f64,
 }
 
@@ -169,6 +213,7 @@ pub struct LossSpec {
 pub struct FailureSpec {
     /// Failures per UAV per hour of flight (exponential times drawn from the seed; 0:
     /// none).
+    #[schemars(range(min = 0.0, max = 1000.0))]
     pub rate_per_h: f64,
 }
 
@@ -178,22 +223,29 @@ pub struct FailureSpec {
 pub struct TeamSpec {
     /// Period of each UAV's status report (position, sectors, tracks) to the team and the
     /// station, seconds.
+    #[schemars(range(max = 3600.0), extend("exclusiveMinimum" = 0.0))]
     pub heartbeat_s: f64,
     /// The station presumes a UAV lost when it has heard nothing from it this long, and
     /// shares its sectors out again, seconds.
+    #[schemars(range(max = 36_000.0), extend("exclusiveMinimum" = 0.0))]
     pub lost_after_s: f64,
     /// Period of the sighting reports of a UAV that holds locks, seconds.
+    #[schemars(range(max = 3600.0), extend("exclusiveMinimum" = 0.0))]
     pub report_s: f64,
     /// A teammate's report of a track is taken as current this long, seconds.
+    #[schemars(range(max = 36_000.0), extend("exclusiveMinimum" = 0.0))]
     pub report_fresh_s: f64,
     /// Radius of the orbit a fixed-wing UAV flies around a tracked target, metres
     /// (helicopters hover over it).
+    #[schemars(range(min = 20.0, max = 5000.0))]
     pub orbit_m: f64,
     /// How long a UAV that lost its track searches around the target's predicted position
     /// before it goes back to its sectors, seconds.
+    #[schemars(range(min = 0.0, max = 36_000.0))]
     pub reacquire_s: f64,
     /// A searching UAV goes to look for a target a teammate reported within this
     /// distance, if nobody follows it, metres (0: never).
+    #[schemars(range(min = 0.0, max = 1e5))]
     pub cue_m: f64,
 }
 
@@ -216,6 +268,7 @@ impl Default for TeamSpec {
 #[serde(default, deny_unknown_fields)]
 pub struct SensorSpec {
     /// Time between two looks, seconds.
+    #[schemars(range(max = 600.0), extend("exclusiveMinimum" = 0.0))]
     pub period_s: f64,
     /// Friend-or-foe vision of the UAVs.
     pub camera: VisionSpec,
@@ -241,12 +294,15 @@ impl Default for SensorSpec {
 #[serde(default, deny_unknown_fields)]
 pub struct TrackingSpec {
     /// Missed looks in a row that lose a lock (1: the first miss).
+    #[schemars(range(min = 1, max = 10_000))]
     pub misses_to_lose: u32,
     /// Looks in a row that must take a new target for red before it is locked, and that
     /// must take a locked one for another side before the lock is dropped (identification
     /// errors then rarely make a lock).
+    #[schemars(range(min = 1, max = 1000))]
     pub confirm_looks: u32,
     /// Most locks a UAV holds at once.
+    #[schemars(range(min = 1, max = 100))]
     pub max_locks: u32,
 }
 
@@ -265,13 +321,17 @@ impl Default for TrackingSpec {
 #[serde(default, deny_unknown_fields)]
 pub struct AllocationSpec {
     /// How long after a call for proposals the station decides, at the latest, seconds.
+    #[schemars(range(max = 3600.0), extend("exclusiveMinimum" = 0.0))]
     pub proposal_deadline_s: f64,
     /// How long the winner has to confirm it holds the sector, seconds.
+    #[schemars(range(max = 3600.0), extend("exclusiveMinimum" = 0.0))]
     pub report_deadline_s: f64,
     /// How long a UAV's proposal binds without an answer, seconds (longer than the
     /// proposal deadline plus the channel's delays).
+    #[schemars(range(max = 36_000.0), extend("exclusiveMinimum" = 0.0))]
     pub proposal_expiry_s: f64,
     /// A sector whose call failed is called again after this long, seconds.
+    #[schemars(range(max = 36_000.0), extend("exclusiveMinimum" = 0.0))]
     pub retry_s: f64,
 }
 
@@ -291,8 +351,10 @@ impl Default for AllocationSpec {
 #[serde(default, deny_unknown_fields)]
 pub struct RedSpec {
     /// Distance to the next destination, metres `[min, max]` (straight line).
+    #[schemars(inner(range(min = 0.0)))]
     pub leg_m: [f64; 2],
     /// Pause at each destination, seconds `[min, max]`.
+    #[schemars(inner(range(min = 0.0)))]
     pub dwell_s: [f64; 2],
 }
 

@@ -10,16 +10,18 @@ use serde::de::DeserializeOwned;
 use std::path::Path;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue, ValueDeserializer};
+use vitro::time::UtcTime;
 use vitro_tactical::scenario::{
     ChannelSpec, Diagnostic, EndSpec, EntitySpec, FidelitySpec, RecordSpec, SiteSpec,
 };
 
 /// The keys of a surveillance scenario's top level, in the order of
 /// [`SurveillanceFile`]'s fields.
-pub const TOP_LEVEL_KEYS: [&str; 19] = [
+pub const TOP_LEVEL_KEYS: [&str; 20] = [
     "kind",
     "name",
     "seed",
+    "start",
     "end",
     "site",
     "fidelity",
@@ -63,6 +65,13 @@ pub(crate) fn parse(file: &Path, text: &str) -> Result<SurveillanceFile, Vec<Dia
         let result = match key.get_ref().as_ref() {
             "kind" | "name" => part::<String>(v),
             "seed" => part::<u64>(v),
+            "start" => {
+                let span = v.span();
+                if let Err(e) = part::<UtcTime>(v) {
+                    out.push(Diagnostic::from_toml_or_at(file, text, &e, Some(span)));
+                }
+                Ok(())
+            }
             "end" => part::<EndSpec>(v),
             "site" => part::<SiteSpec>(v),
             "fidelity" => part::<FidelitySpec>(v),

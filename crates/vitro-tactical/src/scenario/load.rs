@@ -16,13 +16,15 @@ use serde::de::DeserializeOwned;
 use std::path::Path;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue, ValueDeserializer};
+use vitro::time::UtcTime;
 use vitro_site::site::Site;
 
 /// The keys of a scenario file's top level, in the order of [`ScenarioFile`]'s fields.
-pub const TOP_LEVEL_KEYS: [&str; 17] = [
+pub const TOP_LEVEL_KEYS: [&str; 18] = [
     "kind",
     "name",
     "seed",
+    "start",
     "tie_order",
     "end",
     "site",
@@ -187,6 +189,13 @@ pub(crate) fn parse(file: &Path, text: &str) -> Result<ScenarioFile, Vec<Diagnos
         let result = match key.get_ref().as_ref() {
             "kind" | "name" => part::<String>(v),
             "seed" => part::<u64>(v),
+            "start" => {
+                let span = v.span();
+                if let Err(e) = part::<UtcTime>(v) {
+                    out.push(Diagnostic::from_toml_or_at(file, text, &e, Some(span)));
+                }
+                Ok(())
+            }
             "end" => part::<EndSpec>(v),
             "site" => part::<SiteSpec>(v),
             "fidelity" => part::<FidelitySpec>(v),

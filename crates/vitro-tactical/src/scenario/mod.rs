@@ -47,18 +47,40 @@ use crate::world::Side;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
+use vitro::time::UtcTime;
+
+/// Makes `kind` a required key of a scenario file's schema: the mission's own parser takes
+/// a file without it, the tools (which pick the mission by it) do not.
+pub fn require_kind(schema: &mut schemars::Schema) {
+    if let Some(required) = schema.get_mut("required").and_then(|r| r.as_array_mut()) {
+        required.insert(0, "kind".into());
+    }
+}
+
+/// The form of a scenario's `start` in the JSON Schema (the checker also checks the
+/// calendar: month, day, leap years).
+pub const START_PATTERN: &str = r"^[0-9]{4}-[0-9]{2}-[0-9]{2}[Tt][0-9]{2}:[0-9]{2}:[0-9]{2}(\.[0-9]{1,9})?([Zz]|[+-][0-9]{2}:[0-9]{2})$";
 
 /// A whole scenario file of the evacuation mission.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(transform = require_kind)]
 pub struct ScenarioFile {
     /// The kind of scenario, `"evacuation"`: the tools pick the mission by it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("const" = "evacuation"))]
     pub kind: Option<String>,
     /// A short name for reports.
+    #[schemars(regex(pattern = r"\S"))]
     pub name: String,
     /// Master seed of every random stream of the run.
     pub seed: u64,
+    /// When simulated time 0 is on the calendar, RFC 3339 (`"2024-06-01T06:00:00Z"`;
+    /// default 2024-06-01T06:00:00Z): the recording, KML tracks and the viewer's clock
+    /// show it, the simulation never reads it (no trace changes with it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<String>", extend("pattern" = START_PATTERN, "format" = "date-time"))]
+    pub start: Option<UtcTime>,
     /// The order of events due at the same time: `"fifo"` (default: first scheduled, first
     /// fired) or `"shuffled"` (a seeded random order, to check an outcome is not an artefact
     /// of the order agents were added or woke).
@@ -118,6 +140,7 @@ pub enum TieOrder {
 #[serde(deny_unknown_fields)]
 pub struct EndSpec {
     /// Simulated seconds after which the run stops, in (0, 1e6].
+    #[schemars(range(max = 1e6), extend("exclusiveMinimum" = 0.0))]
     pub time_s: f64,
 }
 
@@ -157,24 +180,31 @@ pub struct FidelitySpec {
     pub level: Preset,
     /// Cargo truck: discrete, interpolated or physical.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("enum" = ["discrete", "interpolated", "physical"]))]
     pub truck: Option<Level>,
     /// Civilian car: discrete, interpolated or physical.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("enum" = ["discrete", "interpolated", "physical"]))]
     pub car: Option<Level>,
     /// MDARS UGV: discrete, interpolated or physical.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("enum" = ["discrete", "interpolated", "physical"]))]
     pub ugv: Option<Level>,
     /// Troopers, the VIP and the HVT: discrete or directed.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("enum" = ["discrete", "directed"]))]
     pub trooper: Option<Level>,
     /// Procerus fixed-wing UAV: discrete or kinematic.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("enum" = ["discrete", "kinematic"]))]
     pub procerus: Option<Level>,
     /// Vidar helicopter UAV: discrete or dynamic.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("enum" = ["discrete", "dynamic"]))]
     pub vidar: Option<Level>,
     /// Skeldar helicopter UAV: discrete or dynamic.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("enum" = ["discrete", "dynamic"]))]
     pub skeldar: Option<Level>,
     /// A calibration file made by `vitro calibrate` for this scenario's map, terrain and
     /// type set, relative to the scenario file's directory: the abstract levels (discrete,
@@ -281,8 +311,15 @@ fn one() -> u32 {
 /// A group of entities of one type and side.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+// Aircraft (and only they) have an altitude.
+#[schemars(extend(
+    "if" = { "properties": { "type": { "enum": ["procerus", "vidar", "skeldar"] } } },
+    "then" = { "required": ["altitude_m"] },
+    "else" = { "not": { "required": ["altitude_m"] } }
+))]
 pub struct EntitySpec {
     /// Unique name; a group of `count > 1` is named `name-1`, `name-2`, ...
+    #[schemars(regex(pattern = r"\S"))]
     pub name: String,
     /// Entity type.
     #[serde(rename = "type")]
@@ -291,12 +328,14 @@ pub struct EntitySpec {
     pub side: SideSpec,
     /// How many, 1 to 20000.
     #[serde(default = "one")]
+    #[schemars(range(min = 1, max = 20_000))]
     pub count: u32,
     /// Start, town metres `[x, y]`; none: placed by the mission.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub start: Option<[f64; 2]>,
     /// Flight altitude above the ground, metres, 20 to 3000 (aircraft only).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 20.0, max = 3000.0))]
     pub altitude_m: Option<f64>,
 }
 
@@ -319,20 +358,28 @@ impl EntitySpec {
 #[serde(default, deny_unknown_fields)]
 pub struct MissionSpec {
     /// Time to get the VIP on board at the safehouse, seconds.
+    #[schemars(range(min = 0.0, max = 1e6))]
     pub pickup_s: f64,
     /// When the HVT appears, seconds after the start.
+    #[schemars(range(min = 0.0, max = 1e6))]
     pub hvt_appear_s: f64,
     /// How many troopers split off to pursue the HVT.
+    #[schemars(range(max = 20_000))]
     pub hvt_pursuers: u32,
     /// A pursuer within this distance of the HVT captures it, metres.
+    #[schemars(range(max = 1e4), extend("exclusiveMinimum" = 0.0))]
     pub capture_range_m: f64,
     /// Red attacks a blue unit it sees within this distance, metres.
+    #[schemars(range(max = 1e4), extend("exclusiveMinimum" = 0.0))]
     pub attack_range_m: f64,
     /// Time a red attacker aims before it fires, seconds.
+    #[schemars(range(min = 0.0, max = 1e6))]
     pub attack_aim_s: f64,
     /// Probability that an attack hits, in [0, 1].
+    #[schemars(range(min = 0.0, max = 1.0))]
     pub hit_probability: f64,
     /// A team member within this distance of a friendly watcher is covered, metres.
+    #[schemars(range(max = 1e4), extend("exclusiveMinimum" = 0.0))]
     pub cover_radius_m: f64,
 }
 
@@ -356,14 +403,19 @@ impl Default for MissionSpec {
 #[serde(deny_unknown_fields)]
 pub struct VisionSpec {
     /// Range, metres.
+    #[schemars(range(max = 1e5), extend("exclusiveMinimum" = 0.0))]
     pub range_m: f64,
     /// Field of view, degrees, in (0, 360].
+    #[schemars(range(max = 360.0), extend("exclusiveMinimum" = 0.0))]
     pub fov_deg: f64,
     /// Detection probability at distance 0, in [0, 1].
+    #[schemars(range(min = 0.0, max = 1.0))]
     pub p0: f64,
     /// Fall-off exponent of the detection probability with distance, ≥ 0.
+    #[schemars(range(min = 0.0, max = 100.0))]
     pub falloff: f64,
     /// Probability of reporting the wrong side, in [0, 1].
+    #[schemars(range(min = 0.0, max = 1.0))]
     pub misidentification: f64,
 }
 
@@ -385,12 +437,15 @@ impl VisionSpec {
 #[serde(default, deny_unknown_fields)]
 pub struct SensorsSpec {
     /// Time between two looks of each sensor, seconds.
+    #[schemars(range(max = 3600.0), extend("exclusiveMinimum" = 0.0))]
     pub period_s: f64,
     /// Time between two position reports of each blue unit over the radio (blue-force
     /// tracking: its own GPS fix), seconds; 0 sends none.
+    #[schemars(range(min = 0.0, max = 3600.0))]
     pub report_period_s: f64,
     /// A position report or an own sighting older than this is no longer used to estimate
     /// where a unit is, seconds.
+    #[schemars(range(max = 1e6), extend("exclusiveMinimum" = 0.0))]
     pub stale_s: f64,
     /// Vision of ground units.
     pub ground: VisionSpec,
@@ -427,12 +482,16 @@ impl Default for SensorsSpec {
 #[serde(default, deny_unknown_fields)]
 pub struct ChannelSpec {
     /// Mean delivery delay, milliseconds.
+    #[schemars(range(min = 0.0, max = 1e6))]
     pub delay_ms: f64,
     /// Delay jitter, milliseconds.
+    #[schemars(range(min = 0.0, max = 1e6))]
     pub jitter_ms: f64,
     /// Probability that a message is lost, in [0, 1].
+    #[schemars(range(min = 0.0, max = 1.0))]
     pub loss: f64,
     /// Radio range, metres.
+    #[schemars(range(max = 1e6), extend("exclusiveMinimum" = 0.0))]
     pub range_m: f64,
 }
 
@@ -453,24 +512,30 @@ impl Default for ChannelSpec {
 #[serde(default, deny_unknown_fields)]
 pub struct PatrolSpec {
     /// Duration of one patrol step, seconds: a Skeldar flies to its next checkpoint each step.
+    #[schemars(range(max = 1e6), extend("exclusiveMinimum" = 0.0))]
     pub step_s: f64,
     /// Steps an attacker needs to complete an attack (a Skeldar over the target at one of
     /// them catches it).
+    #[schemars(range(min = 1, max = 100))]
     pub attack_steps: u32,
     /// Steps the game looks ahead: besides the convoy, the patrol guards the route where the
     /// convoy will be this many steps later (0: the convoy only, which a Skeldar guards by
     /// riding along, without randomness).
+    #[schemars(range(max = 100))]
     pub horizon: u32,
     /// LP iterations of each local search of the patrol solver (more: closer to the
     /// optimum, a slower mission setup).
+    #[schemars(range(min = 1, max = 1000))]
     pub iterations: u32,
     /// Red troopers that play the game's attacker (the first ones): briefed with the
     /// patrol's policies and the convoy's timetable, each watches the Skeldars and the
     /// truck and strikes the convoy or the route ahead once, at the start the game's
     /// attacker picks (0: none; scored in the report, the convoy is not hurt).
+    #[schemars(range(max = 100))]
     pub attackers: u32,
     /// How far the game's attacker sees the Skeldars and the truck, metres (horizontally;
     /// line of sight not checked).
+    #[schemars(range(max = 1e6), extend("exclusiveMinimum" = 0.0))]
     pub watch_range_m: f64,
 }
 
@@ -521,11 +586,14 @@ pub struct PursuitSpec {
     /// The hunt lead's family of search.
     pub lead: PursuitLead,
     /// Iterations per decision.
+    #[schemars(range(min = 1, max = 10_000_000))]
     pub budget: u32,
     /// Simulated thinking time charged per iteration, microseconds.
+    #[schemars(range(min = 0.0, max = 1e6))]
     pub think_us_per_iteration: f64,
     /// Turns (walk-graph moves) each MCTS simulation plays out (minimax deepens iteratively
     /// within its budget instead).
+    #[schemars(range(min = 1, max = 1000))]
     pub horizon: u32,
 }
 
@@ -564,9 +632,11 @@ pub struct RepairSpec {
     pub strategy: RepairStrategy,
     /// Deepest repair tried before replanning (none: no limit).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 1))]
     pub max_depth: Option<u32>,
     /// Probability that a Vidar's look at a checkpoint fails (glare, smoke, a gust), and
     /// that a Vidar other than the lead is recalled during the mission.
+    #[schemars(range(min = 0.0, max = 1.0))]
     pub failure_rate: f64,
 }
 
@@ -578,6 +648,7 @@ pub struct FormationSpec {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub program: Option<PathBuf>,
     /// Spacing between troopers, metres.
+    #[schemars(range(max = 100.0), extend("exclusiveMinimum" = 0.0))]
     pub spacing_m: f64,
 }
 
@@ -595,6 +666,7 @@ impl Default for FormationSpec {
 #[serde(default, deny_unknown_fields)]
 pub struct RecordSpec {
     /// Time between two recorded frames, seconds.
+    #[schemars(range(max = 3600.0), extend("exclusiveMinimum" = 0.0))]
     pub sample_s: f64,
 }
 

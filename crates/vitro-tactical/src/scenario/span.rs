@@ -236,6 +236,17 @@ impl Diagnostic {
     /// A toml error as a diagnostic at its place: its message split into what is wrong and
     /// what was expected, serde's type names in words (`f64` is "a number").
     pub fn from_toml(file: &Path, text: &str, e: &toml::de::Error) -> Self {
+        Self::from_toml_or_at(file, text, e, None)
+    }
+
+    /// [`from_toml`](Self::from_toml), placed at `fallback` when the error has no place of
+    /// its own (a value deserialized on its own, outside its table).
+    pub fn from_toml_or_at(
+        file: &Path,
+        text: &str,
+        e: &toml::de::Error,
+        fallback: Option<Range<usize>>,
+    ) -> Self {
         let message = e.message().trim();
         let (what, expected) = match message.split_once(", expected ") {
             Some((what, exp)) => (what.to_owned(), Some(plain(exp))),
@@ -248,7 +259,7 @@ impl Diagnostic {
             let key = what.strip_prefix("missing field `")?.strip_suffix('`')?;
             Some(format!("a key `{key}` in this table"))
         });
-        Diagnostic::new(file, text, e.span(), what, expected)
+        Diagnostic::new(file, text, e.span().or(fallback), what, expected)
     }
 }
 

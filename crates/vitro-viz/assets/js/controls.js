@@ -1,6 +1,6 @@
 // Time controls: pause / resume, single step, speed ladder, clock, and the replay timeline.
 
-import { clock, speed as speedText } from './format.js';
+import { clock, speed as speedText, wallClock } from './format.js';
 
 /** The speed factors offered by − and +. */
 export const SPEEDS = [0.1, 0.25, 0.5, 1, 2, 5, 10, 20, 50, 100, 200, 500, 1000];
@@ -73,6 +73,7 @@ export class Controls {
   onFrame() {
     const f = this.state.frame;
     this.$('clock').textContent = clock(f.t_ns);
+    this.$('wall').textContent = wallClock(this.state.scene?.start_unix_ms, f.t_ns);
     this.$('events').textContent = `${f.events} events`;
     this.$('clock').dataset.tNs = String(f.t_ns);
     this.$('events').dataset.events = String(f.events);

@@ -9,6 +9,17 @@ export function clock(tNs) {
   return `${h}:${String(m).padStart(2, '0')}:${s.toFixed(1).padStart(4, '0')}`;
 }
 
+/**
+ * The calendar time (UTC) of simulated nanoseconds tNs after a start in Unix milliseconds
+ * (the scene's start_unix_ms): "2024-06-01 06:00:12 UTC". Empty without a start.
+ */
+export function wallClock(startMs, tNs) {
+  if (startMs == null) return '';
+  const d = new Date(Number(startMs) + Math.floor(Number(tNs) / 1e6));
+  if (Number.isNaN(d.getTime())) return '';
+  return `${d.toISOString().slice(0, 19).replace('T', ' ')} UTC`;
+}
+
 /** A speed factor as text: 0.5×, 2×, 1000×. */
 export function speed(x) {
   if (x == null) return 'max';

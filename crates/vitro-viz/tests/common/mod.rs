@@ -81,6 +81,7 @@ pub fn unwatched(seed: u64, end_s: u64) -> (u64, u64) {
 pub fn scene() -> Scene {
     Scene {
         name: "toy".into(),
+        start_unix_ms: 0,
         geo: Geo {
             lat0: 60.0,
             lon0: 25.0,
