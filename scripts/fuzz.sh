@@ -1,0 +1,126 @@
+#!/usr/bin/env bash
+# Coverage-guided fuzzing of every parser of outside input (fuzz/, cargo fuzz + libFuzzer).
+#
+#   scripts/fuzz.sh [SECONDS] [TARGET...]
+#
+# Builds the targets (stable toolchain: `--sanitizer none`), seeds a corpus per target in a
+# temporary directory with the repository's own files and fixtures, runs each target for
+# SECONDS (default 30) with a fixed seed, and prints a table: executions, coverage (libFuzzer's
+# `cov:` edges), crashes. Exits 1 if any target crashed; the crashing input is kept under
+# $FUZZ_OUT (default: the temporary directory, printed) as crash-*.
+#
+# Environment:
+#   FUZZ_FEATURES  target groups to build (fuzz/Cargo.toml): default all
+#                  ("text site record missions"); "text" is the cheap subset.
+#   FUZZ_PROFILE   "release" (default) or "dev" (cargo fuzz build --dev).
+#   FUZZ_OUT       where corpora and crashes go (default: a new temporary directory).
+#   FUZZ_BUILD     0: run the targets already built, without building.
+#   CARGO_TARGET_DIR  default target/fuzz (kept apart from the main build).
+set -euo pipefail
+
+cd "$(dirname "$0")/.."
+repo=$(pwd)
+seconds=${1:-30}
+shift || true
+features=${FUZZ_FEATURES:-text site record missions}
+profile=${FUZZ_PROFILE:-release}
+export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$repo/target/fuzz}
+out=${FUZZ_OUT:-$(mktemp -d -t vitro-fuzz.XXXXXX)}
+mkdir -p "$out"
+
+# The targets each group holds (the bins of fuzz/Cargo.toml).
+declare -A group=(
+    [text]="pddl_domain pddl_problem rules edge_list patrol_instance ws_command"
+    [site]="terrain_asc terrain_geotiff osm_pbf"
+    [record]="mcap_replay"
+    [missions]="scenario_evacuation scenario_surveillance scenario_demo experiment snapshot"
+)
+if [ $# -gt 0 ]; then
+    targets="$*"
+else
+    targets=""
+    for f in $features; do targets="$targets ${group[$f]}"; done
+fi
+
+dev=""
+[ "$profile" = dev ] && dev="--dev"
+started=$(date +%s)
+if [ "${FUZZ_BUILD:-1}" != 0 ]; then
+    (cd fuzz && cargo fuzz build --sanitizer none $dev --no-default-features \
+        --features "$(echo $features | tr ' ' ',')")
+fi
+built=$(date +%s)
+echo "fuzz build ($profile, features: $features): $((built - started)) s"
+triple=$(rustc -vV | sed -n 's/^host: //p')
+bindir="$CARGO_TARGET_DIR/$triple/$profile"
+
+# Seeds: repository files matching each target's patterns (git ls-files globs).
+seeds() {
+    case "$1" in
+        pddl_domain | pddl_problem) git ls-files '*.pddl' ;;
+        rules) git ls-files '*.jz' ;;
+        edge_list) git ls-files '*.edges' ;;
+        patrol_instance) git ls-files 'data/patrol/*.toml' ;;
+        terrain_asc) git ls-files '*.asc' ;;
+        terrain_geotiff) git ls-files '*.tif' '*.tiff' ;;
+        osm_pbf) git ls-files '*.pbf' ;;
+        scenario_evacuation | scenario_surveillance | scenario_demo)
+            git ls-files 'scenarios/*.toml' 'crates/*/tests/*.toml' ;;
+        experiment) git ls-files 'experiments/*.toml' ;;
+        *) ;;
+    esac
+}
+
+# Seeds made by the CLI (a recording, a snapshot) when a debug build of it is there.
+vitro=${VITRO_BIN:-$repo/target/debug/vitro}
+made() {
+    local dir=$1 target=$2
+    [ -x "$vitro" ] || return 0
+    case "$target" in
+        mcap_replay)
+            "$vitro" run scenarios/demo.toml --until 20 --quiet --record "$dir/demo.mcap" \
+                >/dev/null 2>&1 || true ;;
+        snapshot)
+            "$vitro" run scenarios/demo.toml --until 20 --quiet --save-at 10 \
+                --save "$dir/demo.snap" >/dev/null 2>&1 || true ;;
+    esac
+}
+
+ws_seeds() {
+    local dir=$1 i=0
+    for c in '{"cmd":"pause"}' '{"cmd":"resume"}' '{"cmd":"step","n":1}' \
+        '{"cmd":"speed","factor":2.5}' '{"cmd":"seek","t_ns":5000000000}' \
+        '{"cmd":"play"}'; do
+        printf '%s' "$c" >"$dir/seed$i.json"
+        i=$((i + 1))
+    done
+}
+
+printf '\n%-22s %8s %12s %8s %8s\n' target seconds executions cov crashes
+status=0
+for t in $targets; do
+    corpus=$out/corpus/$t
+    mkdir -p "$corpus" "$out/artifacts/$t"
+    if [ -z "$(ls -A "$corpus")" ]; then
+        seeds "$t" | while read -r f; do
+            cp "$f" "$corpus/$(echo "$f" | tr '/' '_')"
+        done
+        [ "$t" = ws_command ] && ws_seeds "$corpus"
+        made "$corpus" "$t"
+    fi
+    log=$out/$t.log
+    rc=0
+    "$bindir/$t" -seed=1 -max_total_time="$seconds" -print_final_stats=1 \
+        -rss_limit_mb=4096 -timeout=30 -artifact_prefix="$out/artifacts/$t/" \
+        "$corpus" >"$log" 2>&1 || rc=$?
+    execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+    cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
+    crashes=$(find "$out/artifacts/$t" -type f | wc -l)
+    if [ "$rc" -ne 0 ] || [ "$crashes" -gt 0 ]; then
+        status=1
+        [ "$crashes" -gt 0 ] || crashes="exit $rc"
+    fi
+    printf '%-22s %8s %12s %8s %8s\n' "$t" "$seconds" "${execs:-?}" "${cov:-?}" "$crashes"
+done
+echo "fuzz runs: $(($(date +%s) - built)) s; corpora, logs and crashes in $out"
+exit $status
