@@ -7,9 +7,7 @@ use std::sync::OnceLock;
 /// One file per process, rewritten each run: GeoTIFF is read through a path.
 fn file() -> &'static std::path::Path {
     static FILE: OnceLock<std::path::PathBuf> = OnceLock::new();
-    FILE.get_or_init(|| {
-        std::env::temp_dir().join(format!("vitro-fuzz-{}.tif", std::process::id()))
-    })
+    FILE.get_or_init(|| std::env::temp_dir().join(format!("vitro-fuzz-{}.tif", std::process::id())))
 }
 
 fuzz_target!(|data: &[u8]| {
