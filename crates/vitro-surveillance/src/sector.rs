@@ -85,7 +85,10 @@ pub fn centre(r: Rect) -> [f64; 2] {
     [(r[0] + r[2]) / 2.0, (r[1] + r[3]) / 2.0]
 }
 
-/// Distance between two points.
+/// Distance between two points, as the square root of the sum of the squares. Not
+/// [`vitro_site::geo::dist`] (`hypot`): the two differ in the last bit for about one pair of
+/// points in ten, and the mission's bids and choices compare these distances, so its runs
+/// keep this formula.
 pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     libm::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]))
 }

@@ -18,6 +18,7 @@ use tiny_skia::{
 };
 use vitro::prelude::*;
 use vitro_site::map::Mode;
+use vitro_site::geo::dist;
 use vitro_site::render::{Overlay, RenderOptions, render_site_with};
 use vitro_tactical::arena::Ev;
 use vitro_tactical::behaviour::formation::{
@@ -60,10 +61,6 @@ fn why(reason: &str) -> &str {
         "open" => "open ground",
         other => other,
     }
-}
-
-fn dist(a: P2, b: P2) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
 fn node_xy(setup: &Setup, n: NodeId) -> Result<P2, Error> {

@@ -14,6 +14,7 @@ use std::sync::OnceLock;
 use std::time::Instant;
 use vitro::prelude::*;
 use vitro_site::map::Mode;
+use vitro_site::geo::dist;
 use vitro_tactical::arena::Ev;
 use vitro_tactical::behaviour::formation::{
     Arrival, FormationError, FormationParams, LEADER_PROGRAM, LINK_STALE, Leader, Member, Pattern,
@@ -48,10 +49,6 @@ fn node_xy(n: NodeId) -> P2 {
 
 fn xy(p: [f64; 3]) -> P2 {
     [p[0], p[1]]
-}
-
-fn dist(a: P2, b: P2) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
 /// The across-town trip: from the standard walking trip's start, across the open valley

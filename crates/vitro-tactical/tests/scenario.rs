@@ -6,6 +6,7 @@
 #![allow(clippy::disallowed_methods)]
 
 use std::path::{Path, PathBuf};
+use vitro_site::geo::dist;
 use vitro_site::map::{MapConfig, TownMap};
 use vitro_tactical::entity::Level;
 use vitro_tactical::scenario::{
@@ -70,10 +71,6 @@ fn places(d: &Diagnostics) -> Vec<String> {
             format!("{l}:{c}")
         })
         .collect()
-}
-
-fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
 #[test]
