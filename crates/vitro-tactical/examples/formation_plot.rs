@@ -17,8 +17,8 @@ use tiny_skia::{
     Color, FillRule, Paint, PathBuilder, Pixmap, PixmapPaint, Rect, Stroke, Transform,
 };
 use vitro::prelude::*;
-use vitro_site::map::Mode;
 use vitro_site::geo::dist;
+use vitro_site::map::Mode;
 use vitro_site::render::{Overlay, RenderOptions, render_site_with};
 use vitro_tactical::arena::Ev;
 use vitro_tactical::behaviour::formation::{

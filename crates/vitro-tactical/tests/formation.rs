@@ -13,8 +13,8 @@ use common::pct;
 use std::sync::OnceLock;
 use std::time::Instant;
 use vitro::prelude::*;
-use vitro_site::map::Mode;
 use vitro_site::geo::dist;
+use vitro_site::map::Mode;
 use vitro_tactical::arena::Ev;
 use vitro_tactical::behaviour::formation::{
     Arrival, FormationError, FormationParams, LEADER_PROGRAM, LINK_STALE, Leader, Member, Pattern,
