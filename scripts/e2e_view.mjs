@@ -81,6 +81,9 @@ async function live(browser) {
   await page.waitForTimeout(1500);
   const b = await clockOf(page);
   check(b.t > a.t && b.text !== a.text, `the clock advances (${a.text} -> ${b.text})`);
+  // The calendar time beside it: the scenario's start (2024-06-01T06:00:00Z) plus the clock.
+  const wall = await page.textContent('#wall');
+  check(/^2024-06-01 06:\d\d:\d\d UTC$/.test(wall), `the calendar clock shows the mission's date (${wall})`);
 
   // Speed: 1x, then + three times (2x, 5x, 10x); compare simulated seconds per wall second.
   const rate = async () => {
