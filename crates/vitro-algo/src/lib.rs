@@ -61,3 +61,4 @@ pub mod planning;
 pub mod pursuit;
 pub mod repair;
 pub mod rules;
+pub mod scc;

@@ -5,9 +5,7 @@ use serde::Serialize;
 use super::chain::Chain;
 use super::{Instance, PatrolError};
 use crate::graph::{Graph, NodeId};
-
-mod scc;
-use scc::strong_components;
+use crate::scc::strong_components;
 
 /// A policy's rows: `(vertex, [(next vertex, probability)])`.
 pub type Rows = Vec<(NodeId, Vec<(NodeId, f64)>)>;
@@ -440,7 +438,10 @@ impl Policy {
                 .filter_map(|&(w, _)| index(w).map(|j| next + j))
                 .collect()
         };
-        let component = strong_components(count, &successors);
+        let component = strong_components(
+            count,
+            (0..count).flat_map(|s| successors(s).into_iter().map(move |t| (s, t))),
+        );
         // A component is closed when no move leaves it; empty rows are no states.
         let components = component.iter().copied().max().map_or(0, |c| c + 1);
         let mut closed = vec![true; components];

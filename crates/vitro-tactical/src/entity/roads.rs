@@ -6,6 +6,7 @@
 use super::stretch::{Stretch, Stretches};
 use serde::{Deserialize, Serialize};
 use vitro::env::{GraphStorage, NodeId};
+use vitro_algo::scc::largest_component;
 use vitro_site::geo::{P2, dist};
 use vitro_site::map::{Mode, StreetEdge, StreetNode};
 use vitro_site::site::Site;
@@ -124,73 +125,14 @@ impl FreeGraph {
     }
 }
 
-/// Membership of the largest strongly connected component (Kosaraju, iterative; ties to
-/// the component with the lowest node id).
+/// Membership of the largest strongly connected component (ties to the component with the
+/// lowest node id).
 fn largest_scc<N, E>(g: &GraphStorage<N, E>) -> Vec<bool> {
-    let n = g.node_count();
-    let mut rev: Vec<Vec<u32>> = vec![Vec::new(); n];
-    for u in 0..n as u32 {
-        for (v, _, _) in g.neighbors(NodeId(u)) {
-            rev[v.0 as usize].push(u);
-        }
-    }
-    // First pass: finishing order of a depth-first search on the graph.
-    let mut seen = vec![false; n];
-    let mut order = Vec::with_capacity(n);
-    for root in 0..n {
-        if seen[root] {
-            continue;
-        }
-        seen[root] = true;
-        let mut stack: Vec<(u32, Vec<u32>)> = vec![(
-            root as u32,
-            g.neighbors(NodeId(root as u32))
-                .map(|(v, _, _)| v.0)
-                .collect(),
-        )];
-        while let Some((u, rest)) = stack.last_mut() {
-            if let Some(v) = rest.pop() {
-                if !seen[v as usize] {
-                    seen[v as usize] = true;
-                    let next = g.neighbors(NodeId(v)).map(|(w, _, _)| w.0).collect();
-                    stack.push((v, next));
-                }
-            } else {
-                order.push(*u);
-                stack.pop();
-            }
-        }
-    }
-    // Second pass: components on the reversed graph in reverse finishing order.
-    let mut comp = vec![u32::MAX; n];
-    let mut sizes: Vec<(usize, u32)> = Vec::new();
-    for &root in order.iter().rev() {
-        if comp[root as usize] != u32::MAX {
-            continue;
-        }
-        let c = sizes.len() as u32;
-        let mut size = 0;
-        let mut low = root;
-        let mut stack = vec![root];
-        comp[root as usize] = c;
-        while let Some(u) = stack.pop() {
-            size += 1;
-            low = low.min(u);
-            for &v in &rev[u as usize] {
-                if comp[v as usize] == u32::MAX {
-                    comp[v as usize] = c;
-                    stack.push(v);
-                }
-            }
-        }
-        sizes.push((size, low));
-    }
-    let best = sizes
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.0.cmp(&b.1.0).then(b.1.1.cmp(&a.1.1)))
-        .map(|(i, _)| i as u32);
-    comp.iter().map(|&c| Some(c) == best).collect()
+    let arcs = (0..g.node_count() as u32).flat_map(|u| {
+        g.neighbors(NodeId(u))
+            .map(move |(v, _, _)| (u as usize, v.0 as usize))
+    });
+    largest_component(g.node_count(), arcs)
 }
 
 /// The free street graphs of a site, built once and shared by every run on it.
