@@ -1,6 +1,8 @@
 //! Top actuators at a chosen level: one per family, each handing the command to that level's
 //! own actuator or autopilot, so a mission gives every entity the level its scenario names
-//! and its controllers stay level-blind.
+//! and its controllers stay level-blind. A level the family has not (a vehicle driven at the
+//! directed level) is refused with an error ([`MoveError::NoSuchLevel`],
+//! [`FlyError::NoSuchLevel`]), never taken for another.
 //!
 //! ```
 //! use vitro_tactical::actuate::by_level::{Drive, Pilot, Walk};
@@ -37,7 +39,10 @@ impl Actuator<Arena, Ev> for Drive {
         match self.0 {
             Level::Interpolated => ground::interpolated::GoToNode.actuate(w, me, goal, fx),
             Level::Physical => ground::physical::GoToNode.actuate(w, me, goal, fx),
-            _ => ground::discrete::GoToNode.actuate(w, me, goal, fx),
+            Level::Discrete => ground::discrete::GoToNode.actuate(w, me, goal, fx),
+            level @ (Level::Directed | Level::Kinematic | Level::Dynamic) => {
+                Err(MoveError::NoSuchLevel(me, level))
+            }
         }
     }
 }
@@ -58,7 +63,10 @@ impl Actuator<Arena, Ev> for Walk {
     ) -> Result<(), MoveError> {
         match self.0 {
             Level::Directed => troop::directed::WalkToNode.actuate(w, me, goal, fx),
-            _ => troop::discrete::WalkToNode.actuate(w, me, goal, fx),
+            Level::Discrete => troop::discrete::WalkToNode.actuate(w, me, goal, fx),
+            level @ (Level::Interpolated | Level::Physical | Level::Kinematic | Level::Dynamic) => {
+                Err(MoveError::NoSuchLevel(me, level))
+            }
         }
     }
 }
@@ -81,7 +89,10 @@ impl Actuator<Arena, Ev> for Pilot {
         match self.0 {
             Level::Kinematic => autopilot::ctol::Autopilot.actuate(w, me, cmd, fx),
             Level::Dynamic => autopilot::vtol::Autopilot.actuate(w, me, cmd, fx),
-            _ => autopilot::lattice::Autopilot.actuate(w, me, cmd, fx),
+            Level::Discrete => autopilot::lattice::Autopilot.actuate(w, me, cmd, fx),
+            level @ (Level::Interpolated | Level::Physical | Level::Directed) => {
+                Err(FlyError::NoSuchLevel(me, level))
+            }
         }
     }
 }

@@ -29,6 +29,10 @@ pub enum MoveError {
     /// [`stall_after`](crate::arena::Steps::stall_after) ([`Ev::Stalled`]).
     #[error("entity {0:?} stalled on its way to node {1:?}")]
     Stalled(EntityId, NodeId),
+    /// The actuator was built for a level its family has not (e.g. a vehicle driven at the
+    /// directed level).
+    #[error("entity {0:?}: this actuator moves no body at the {level} level", level = .1.name())]
+    NoSuchLevel(EntityId, Level),
 }
 
 /// Tells `who` it gave up its trip to `goal`, now (no progress: [`Ev::Stalled`]).

@@ -2,6 +2,7 @@
 //! telling the owner a waypoint was reached.
 
 use crate::arena::{Arena, Ev};
+use crate::entity::Level;
 use crate::entity::air::{FlightCommand, Pilot};
 use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
@@ -21,6 +22,10 @@ pub enum FlyError {
     /// A number is not finite.
     #[error("the command holds a value that is not a finite number")]
     NotFinite,
+    /// The autopilot was built for a level no aircraft has (e.g. the physical level of a
+    /// ground vehicle).
+    #[error("entity {0:?}: no aircraft flies at the {level} level", level = .1.name())]
+    NoSuchLevel(EntityId, Level),
 }
 
 /// Checks a command before an autopilot takes it.
