@@ -79,35 +79,43 @@ impl RawOsm {
     pub(crate) fn read<R: Read + Send>(reader: R) -> Result<Self, MapError> {
         let mut raw = RawOsm::default();
         let mut bad_role = None;
-        ElementReader::new(reader).for_each(|el| match el {
-            Element::Node(n) => raw.add_node(n.id(), n.lat(), n.lon()),
-            Element::DenseNode(n) => raw.add_node(n.id(), n.lat(), n.lon()),
-            Element::Way(w) => raw.ways.push(RawWay {
-                id: w.id(),
-                refs: w.refs().collect(),
-                tags: Tags::from_iter(w.tags()),
-            }),
-            Element::Relation(r) => {
-                let mut ways = Vec::new();
-                for m in r.members() {
-                    if m.member_type != RelMemberType::Way {
-                        continue;
+        // osmpbf computes coordinates without checking for overflow (a corrupt granularity
+        // or offset): in a build with overflow checks that panics inside the reader, and is
+        // reported here as malformed data.
+        let read = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            ElementReader::new(reader).for_each(|el| match el {
+                Element::Node(n) => raw.add_node(n.id(), n.lat(), n.lon()),
+                Element::DenseNode(n) => raw.add_node(n.id(), n.lat(), n.lon()),
+                Element::Way(w) => raw.ways.push(RawWay {
+                    id: w.id(),
+                    refs: w.refs().collect(),
+                    tags: Tags::from_iter(w.tags()),
+                }),
+                Element::Relation(r) => {
+                    let mut ways = Vec::new();
+                    for m in r.members() {
+                        if m.member_type != RelMemberType::Way {
+                            continue;
+                        }
+                        match m.role() {
+                            Ok(role) => ways.push(WayMember {
+                                way: m.member_id,
+                                role: role.to_owned(),
+                            }),
+                            Err(_) => bad_role = Some(r.id()),
+                        }
                     }
-                    match m.role() {
-                        Ok(role) => ways.push(WayMember {
-                            way: m.member_id,
-                            role: role.to_owned(),
-                        }),
-                        Err(_) => bad_role = Some(r.id()),
-                    }
+                    raw.relations.push(RawRelation {
+                        id: r.id(),
+                        ways,
+                        tags: Tags::from_iter(r.tags()),
+                    });
                 }
-                raw.relations.push(RawRelation {
-                    id: r.id(),
-                    ways,
-                    tags: Tags::from_iter(r.tags()),
-                });
-            }
-        })?;
+            })
+        }));
+        read.map_err(|_| {
+            MapError::Malformed("a coordinate out of range (corrupt .osm.pbf data)".into())
+        })??;
         if let Some(id) = bad_role {
             return Err(MapError::Malformed(format!(
                 "relation {id} has a member role that is not valid UTF-8"
