@@ -8,5 +8,8 @@ use vitro_site::map::{MapConfig, MapError, TownMap};
 fn a_pbf_whose_coordinates_overflow_is_malformed() {
     let bytes = include_bytes!("fuzz/osm_pbf_coordinate_overflow.pbf");
     let e = TownMap::from_bytes(bytes, &MapConfig::default()).expect_err("corrupt");
-    assert!(matches!(e, MapError::Malformed(_) | MapError::Pbf(_)), "{e}");
+    assert!(
+        matches!(e, MapError::Malformed(_) | MapError::Pbf(_)),
+        "{e}"
+    );
 }
