@@ -304,7 +304,8 @@ def table_scale(ctx):
         ctx,
         [
             "cargo build --release -p vitro-evac --example scale_table",
-            f"target/release/examples/scale_table {' '.join(args)}   # {runs} runs, one after the other",
+            f"target/release/examples/scale_table {' '.join(args)}"
+            + (f"   # {runs} runs, one after the other" if runs > 1 else ""),
         ],
         "Each row runs in a process of its own; CPU time is the run's thread's, set-up excluded.",
     )
