@@ -114,7 +114,7 @@ for t in $targets; do
         -rss_limit_mb=4096 -timeout=30 -artifact_prefix="$out/artifacts/$t/" \
         "$corpus" >"$log" 2>&1 || rc=$?
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
-    cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
+    cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2 || true)
     # crash-, oom-, timeout- and leak- files; a slow-unit- file is noted, not a failure.
     crashes=$(find "$out/artifacts/$t" -type f ! -name 'slow-unit-*' | wc -l)
     if [ "$rc" -ne 0 ] || [ "$crashes" -gt 0 ]; then
