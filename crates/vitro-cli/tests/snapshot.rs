@@ -190,7 +190,7 @@ fn damaged_foreign_and_other_version_files_are_refused() {
     let mut newer = bytes.clone();
     newer[8] = 99;
     refused(&write("newer.snap", &newer), "format version 99");
-    refused(&dir.join("missing.snap"), "cannot read snapshot");
+    refused(&dir.join("missing.snap"), "missing.snap: No such file");
     let (code, _, err) = vitro(&["run", "scenarios/demo.toml", "--save-at", "5"]);
     assert_eq!(code, 2, "--save-at without --save: {err}");
 }
