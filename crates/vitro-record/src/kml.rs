@@ -178,36 +178,12 @@ fn escape(s: &str) -> String {
     out
 }
 
-/// Year, month, day of a day count since 1970-01-01 (proleptic Gregorian).
-fn civil_from_days(days: i64) -> (i64, i64, i64) {
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 };
-    (yoe + era * 400 + i64::from(m <= 2), m, d)
-}
-
 /// Simulated nanoseconds `t_ns` after the start (milliseconds since the Unix epoch) as an
 /// ISO 8601 (RFC 3339) UTC time, to the millisecond.
 pub(crate) fn utc_time(start_unix_ms: i64, t_ns: u64) -> String {
-    // u64 nanoseconds / 1e6 fits i64.
-    let ms_total = start_unix_ms.saturating_add((t_ns / 1_000_000) as i64);
-    let (days, ms) = (
-        ms_total.div_euclid(86_400_000),
-        ms_total.rem_euclid(86_400_000),
-    );
-    let (y, mo, d) = civil_from_days(days);
-    let (s, ms) = (ms / 1000, ms % 1000);
-    let (h, mi, s) = (s / 3600, s % 3600 / 60, s % 60);
-    if ms == 0 {
-        format!("{y:04}-{mo:02}-{d:02}T{h:02}:{mi:02}:{s:02}Z")
-    } else {
-        format!("{y:04}-{mo:02}-{d:02}T{h:02}:{mi:02}:{s:02}.{ms:03}Z")
-    }
+    vitro::time::UtcTime::from_unix_millis(start_unix_ms)
+        .plus_nanos(t_ns)
+        .to_string()
 }
 
 #[cfg(test)]
