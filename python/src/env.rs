@@ -9,6 +9,7 @@ use vitro::time::{SimDuration, SimTime};
 use vitro_evac::Mission;
 use vitro_evac::external::{Command, SharedDesk, lock, target_points};
 use vitro_mission::{BuildOptions, Mission as _, RegistryError, Run};
+use vitro_tactical::condition::Status;
 use vitro_tactical::world::Side;
 use vitro_tools::ToolError;
 
@@ -104,6 +105,7 @@ impl EvacSim {
             .map(|s| s.knowledge.clone())
             .unwrap_or_default();
         let now = self.mission.sim.now();
+        let stale = SimDuration::from_secs_f64(self.mission.brief.sensors.stale_s);
         let seen: Vec<serde_json::Value> = k
             .seen
             .iter()
@@ -112,9 +114,11 @@ impl EvacSim {
         let heard: Vec<serde_json::Value> = k
             .heard
             .iter()
+            .filter(|(_, h)| now.saturating_since(h.at) <= stale)
             .map(|(who, h)| {
                 let age = now.saturating_since(h.at).as_secs_f64();
-                serde_json::json!([who.0, h.pos[0], h.pos[1], side_code(h.seen_as), age])
+                let side = side_code(h.seen_as);
+                serde_json::json!([who.0, h.pos[0], h.pos[1], side, age, h.from.0])
             })
             .collect();
         let out = serde_json::json!({
@@ -124,6 +128,7 @@ impl EvacSim {
             "arrived": k.arrived,
             "seen": seen,
             "heard": heard,
+            "under_way": k.under_way,
             "refused": k.refused,
         });
         Ok(out.to_string())
@@ -244,9 +249,59 @@ impl EvacSim {
 
     /// What `agent` knows, as JSON text: `pos` [x, y] (world metres) or null, `active`,
     /// `goal` (target index or null), `arrived`, `seen` [[id, x, y, side]] nearest first,
-    /// `heard` [[id, x, y, side, age_s]] (side: 0 neutral, 1 blue, 2 red), `refused`.
+    /// `heard` [[target id, x, y, side, age_s, sender id]] (side: 0 neutral, 1 blue, 2
+    /// red; reports from other units no older than `sensors.stale_s`), `under_way` (a UGV
+    /// on a trip: it takes a new goal only once there), `refused`.
     fn knowledge(&self, py: Python<'_>, agent: &str) -> PyResult<String> {
         guarded(|| self.knowledge_json(agent)).map_err(|e| py_error(py, e))
+    }
+
+    /// The scenario's `sensors.stale_s`: how long a heard report is kept, seconds.
+    fn stale_s(&self) -> f64 {
+        self.mission.brief.sensors.stale_s
+    }
+
+    /// The master seed the run was built with.
+    fn seed(&self) -> u64 {
+        self.mission.seed
+    }
+
+    /// The entities' ids, names and sides (1 blue, 2 red, 0 neutral), in id order.
+    fn members(&self) -> Vec<(u32, String, i64)> {
+        self.mission
+            .members
+            .iter()
+            .map(|m| (m.id.0, m.name.clone(), side_code(m.side)))
+            .collect()
+    }
+
+    /// The referee's ground truth (never given to an agent), in id order: one row per
+    /// entity `[x, y, z, status]`, world metres (a body's own pose; a rider's is its
+    /// vehicle's, none gives zeros), status 0 hidden, 1 active, 2 aboard, 3 down, 4
+    /// captured, 5 extracted.
+    fn state(&self) -> Vec<[f64; 4]> {
+        let w = self.mission.sim.env();
+        self.mission
+            .members
+            .iter()
+            .map(|m| {
+                let status = w.conditions.get(m.id).map(|c| c.status);
+                let body = match status {
+                    Some(Status::Aboard(v)) => v,
+                    _ => m.id,
+                };
+                let p = w.pose(body).map_or([0.0; 3], |p| p.pos);
+                let code = match status {
+                    None | Some(Status::Hidden) => 0.0,
+                    Some(Status::Active) => 1.0,
+                    Some(Status::Aboard(_)) => 2.0,
+                    Some(Status::Down) => 3.0,
+                    Some(Status::Captured) => 4.0,
+                    Some(Status::Extracted) => 5.0,
+                };
+                [p[0], p[1], p[2], code]
+            })
+            .collect()
     }
 
     /// The mission's metrics so far (the referee's, never given to an agent), as JSON text.

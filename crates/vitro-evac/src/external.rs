@@ -55,9 +55,12 @@ pub enum Command {
     GoTo(usize),
 }
 
-/// A contact heard on the radio: the latest report about one target.
+/// A contact heard on the radio: the latest report about one target from another unit
+/// (its own reports do not come back to it).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct Heard {
+    /// Who sent the report.
+    pub from: EntityId,
     /// Where the reporter saw it, world metres.
     pub pos: [f64; 3],
     /// The side the reporter took it for.
@@ -75,7 +78,8 @@ pub struct Knowledge {
     pub active: bool,
     /// What its vision saw at its last look: (who, where, side taken for), nearest first.
     pub seen: Vec<(EntityId, [f64; 3], Side)>,
-    /// The latest radio contact report per target.
+    /// The latest radio contact report per target, from other units; a report older than
+    /// `sensors.stale_s` is dropped at the next look.
     pub heard: BTreeMap<EntityId, Heard>,
     /// The target it goes to, if any.
     pub goal: Option<usize>,
@@ -83,6 +87,9 @@ pub struct Knowledge {
     pub arrived: bool,
     /// Whether it saw a hostile it had never seen before (since the flag was cleared).
     pub new_contact: bool,
+    /// Whether it is on a trip it cannot leave before the trip's end (a UGV driving to
+    /// its goal: its actuator takes a new goal only at rest).
+    pub under_way: bool,
     /// Commands its actuator refused.
     pub refused: u32,
 }
@@ -217,10 +224,13 @@ impl External {
         for s in seen.iter().filter(|s| s.seen_as == Side::Red) {
             new_contact |= self.known.insert(s.id);
         }
+        let stale = SimDuration::from_secs_f64(self.brief.sensors.stale_s);
+        let now = cx.now();
         let pending = {
             let mut desk = lock(&self.desk);
             let slot = desk.units.entry(me).or_default();
             let k = &mut slot.knowledge;
+            k.heard.retain(|_, h| now.saturating_since(h.at) <= stale);
             k.seen = seen.iter().map(|s| (s.id, s.pos, s.seen_as)).collect();
             k.new_contact |= new_contact;
             k.pos = pos;
@@ -270,6 +280,7 @@ impl External {
         if ok {
             self.last = Some(command);
             k.goal = goal.map(|(i, _)| i);
+            k.under_way = matches!(self.mover, Mover::Drive(_));
         } else {
             k.refused += 1;
         }
@@ -292,12 +303,17 @@ impl Controller for External {
             }
             Input::Event(Ev::Arrived(_) | Ev::Waypoint(_)) => {
                 let me = cx.me();
-                lock(&self.desk)
-                    .units
-                    .entry(me)
-                    .or_default()
-                    .knowledge
-                    .arrived = true;
+                let mut desk = lock(&self.desk);
+                let k = &mut desk.units.entry(me).or_default().knowledge;
+                k.arrived = true;
+                k.under_way = false;
+            }
+            Input::Event(Ev::Stalled(_)) => {
+                let me = cx.me();
+                let mut desk = lock(&self.desk);
+                desk.units.entry(me).or_default().knowledge.under_way = false;
+                // The trip was given up: the same command may be given again.
+                self.last = None;
             }
             Input::Message(env) => {
                 if let Radio::Contact {
@@ -307,7 +323,11 @@ impl Controller for External {
                 } = &env.body
                 {
                     let me = cx.me();
+                    if env.from == me {
+                        return; // its own report, back from the group
+                    }
                     let heard = Heard {
+                        from: env.from,
                         pos: *pos,
                         seen_as: *seen_as,
                         at: cx.now(),
