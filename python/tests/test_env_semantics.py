@@ -21,9 +21,10 @@ def scenario(root):
 
 
 def test_seed_tests_pass(scenario):
-    make = functools.partial(parallel_env, scenario, until=150.0, decision_s=30)
-    parallel_seed_test(make, num_cycles=5)
-    seed_test(functools.partial(env, scenario, until=90.0, decision_s=30), num_cycles=3)
+    # seed=42: the runs built with the environment serve the tests' resets to 42.
+    make = functools.partial(parallel_env, scenario, seed=42, until=90.0, decision_s=30)
+    parallel_seed_test(make, num_cycles=3)
+    seed_test(functools.partial(env, scenario, seed=42, until=60.0, decision_s=30), num_cycles=2)
 
 
 def test_max_cycles_test_passes(scenario):
@@ -35,8 +36,8 @@ def test_max_cycles_test_passes(scenario):
 
 
 def test_flat_observations_pass_the_api_tests(scenario):
-    e = parallel_env(scenario, until=120.0, decision_s=30, flat=True)
-    parallel_api_test(e, num_cycles=4)
+    e = parallel_env(scenario, seed=3, until=90.0, decision_s=30, flat=True)
+    parallel_api_test(e, num_cycles=3)
     obs, infos = e.reset(seed=3)
     for a, o in obs.items():
         assert o.dtype == np.float32 and o.shape == e.observation_space(a).shape
@@ -46,7 +47,7 @@ def test_flat_observations_pass_the_api_tests(scenario):
 
 
 def test_spaces_are_float32(scenario):
-    e = parallel_env(scenario, until=100.0)
+    e = parallel_env(scenario, until=60.0)
     space = e.observation_space(e.possible_agents[0])
     for name, s in space.spaces.items():
         if hasattr(s, "dtype") and name != "action_mask" and s.shape != ():
@@ -56,8 +57,8 @@ def test_spaces_are_float32(scenario):
 
 
 def test_state_is_the_referees_ground_truth(scenario):
-    e = parallel_env(scenario, until=60.0, decision_s=30)
-    state_test(env(scenario, until=60.0, decision_s=30), 2)
+    state_test(env(scenario, seed=0, until=60.0, decision_s=30), 2)
+    e = parallel_env(scenario, seed=5, until=60.0, decision_s=30)
     e.reset(seed=5)
     s = e.state()
     assert e.state_space.contains(s)
@@ -96,14 +97,13 @@ def test_reset_without_a_seed_continues_the_generator(scenario):
 
 
 def test_pickle_round_trip_rebuilds_the_environment(scenario):
-    e = parallel_env(scenario, until=60.0, decision_s=30, units=["mdars", "vidar-1"])
-    a = episode(e, seed=9)
+    e = parallel_env(scenario, seed=9, until=60.0, decision_s=30, units=["mdars", "vidar-1"])
+    episode(e)
     copy = pickle.loads(pickle.dumps(e))
     assert copy.possible_agents == ["mdars", "vidar-1"]
     assert copy.decision_s == 30 and copy.until == 60.0
     # The seed generator travels: the next seedless episode is the same in both.
     assert episode(copy) == episode(e)
-    assert episode(copy, seed=9) == a
 
 
 def _rollout_in_a_subprocess(blob):
