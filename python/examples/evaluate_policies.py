@@ -73,7 +73,9 @@ def main():
           f"action space {env.action_space(env.possible_agents[0])}")
     rng = np.random.default_rng(args.seed)
     print("random policy:")
-    r = evaluate(env, lambda a, o: int(rng.integers(env.action_space(a).n)), args.episodes, args.seed)
+    # Uniform over the actions the mask allows (each is obeyed).
+    r = evaluate(env, lambda a, o: int(rng.choice(np.flatnonzero(o["action_mask"]))),
+                 args.episodes, args.seed)
     print("scripted policy:")
     s = evaluate(env, scripted_policy(env), args.episodes, args.seed)
     print(f"mean return over {args.episodes} episodes: random {r:.2f}, scripted {s:.2f}")
