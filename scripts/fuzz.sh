@@ -24,7 +24,10 @@ seconds=${1:-30}
 shift || true
 features=${FUZZ_FEATURES:-text site record missions}
 profile=${FUZZ_PROFILE:-release}
-export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$repo/target/fuzz}
+# Absolute: the build runs in fuzz/, the targets are run from here.
+CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$repo/target/fuzz}
+case "$CARGO_TARGET_DIR" in /*) ;; *) CARGO_TARGET_DIR=$repo/$CARGO_TARGET_DIR ;; esac
+export CARGO_TARGET_DIR
 out=${FUZZ_OUT:-$(mktemp -d -t vitro-fuzz.XXXXXX)}
 mkdir -p "$out"
 
@@ -110,6 +113,10 @@ for t in $targets; do
     fi
     log=$out/$t.log
     rc=0
+    if [ ! -x "$bindir/$t" ]; then
+        echo "no fuzz target binary $bindir/$t (built into another directory?)" >&2
+        exit 1
+    fi
     "$bindir/$t" -seed=1 -max_total_time="$seconds" -print_final_stats=1 \
         -rss_limit_mb=4096 -timeout=30 -artifact_prefix="$out/artifacts/$t/" \
         "$corpus" >"$log" 2>&1 || rc=$?
