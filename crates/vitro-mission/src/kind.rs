@@ -5,7 +5,9 @@ use toml::de::{DeTable, DeValue};
 
 /// Why a scenario's kind could not be told. Each names the file, and the line and column
 /// where there is one, then what was expected.
+/// All are bad input (exit code 2). New variants may be added.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum KindError {
     /// The file is not TOML.
     #[error("{}:{line}:{column}: {message} (expected a TOML scenario file)", .file.display())]

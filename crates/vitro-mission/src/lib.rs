@@ -67,7 +67,12 @@ pub struct BuildOptions {
 }
 
 /// Why a mission could not be validated or built.
+///
+/// Both are fatal to the run they were asked for; [`MissionError::is_bad_input`] tells whether
+/// the file is to blame (every run of it fails the same way: a batch stops) or the set-up failed
+/// (the batch records the run as failed and goes on). New variants may be added.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum MissionError {
     /// The scenario has problems (bad input): every line names file, line and column.
     #[error("{0}")]
@@ -75,6 +80,20 @@ pub enum MissionError {
     /// The scenario is valid but the run cannot be set up (a runtime failure).
     #[error("{0}")]
     Setup(String),
+}
+
+impl MissionError {
+    /// True if the scenario is to blame (exit code 2), false if a valid scenario could not be
+    /// set up (exit code 1).
+    ///
+    /// ```
+    /// use vitro_mission::MissionError;
+    /// assert!(MissionError::Scenario("a.toml:3:1: expected a number".into()).is_bad_input());
+    /// assert!(!MissionError::Setup("no route".into()).is_bad_input());
+    /// ```
+    pub fn is_bad_input(&self) -> bool {
+        matches!(self, MissionError::Scenario(_))
+    }
 }
 
 /// A run that broke while running (an agent failed, the state is inconsistent): a runtime

@@ -7,7 +7,11 @@ use std::path::{Path, PathBuf};
 use vitro::time::SimTime;
 
 /// Why a scenario file could not be given to its mission.
+///
+/// Fatal to the run asked for; [`RegistryError::is_bad_input`] says whose fault. New variants
+/// may be added.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RegistryError {
     /// The file could not be read.
     #[error("cannot read {}: {source}", .file.display())]
@@ -28,7 +32,10 @@ pub enum RegistryError {
 impl RegistryError {
     /// True if the problem is the input's (exit code 2), false if a run failed to set up.
     pub fn is_bad_input(&self) -> bool {
-        !matches!(self, RegistryError::Mission(MissionError::Setup(_)))
+        match self {
+            RegistryError::Mission(e) => e.is_bad_input(),
+            RegistryError::Read { .. } | RegistryError::Kind(_) => true,
+        }
     }
 }
 

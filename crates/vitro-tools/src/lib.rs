@@ -108,7 +108,8 @@ pub fn scenario_error(path: &Path, e: RegistryError) -> ToolError {
         RegistryError::Read { source, .. } => {
             ToolError::Input(format!("cannot read scenario {}: {source}", path.display()))
         }
-        e @ RegistryError::Kind(_) => ToolError::Input(e.to_string()),
+        e if e.is_bad_input() => ToolError::Input(e.to_string()),
+        e => ToolError::Runtime(e.to_string()),
     }
 }
 

@@ -7,7 +7,11 @@ pub const MAGIC: &[u8; 8] = b"VITROSAV";
 pub const FORMAT_VERSION: u32 = 1;
 
 /// Why a snapshot could not be written, read or resumed.
+///
+/// Each is fatal to the save or the resume asked for (nothing is half-written or half-restored);
+/// [`SnapshotError::is_bad_input`] says whether the file is to blame. New variants may be added.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SnapshotError {
     /// Reading or writing the file failed.
     #[error("{0}")]
