@@ -6,6 +6,7 @@
 //! vitro validate SCENARIO
 //! vitro plan DOMAIN PROBLEM [--optimal] [--json]
 //! vitro solve cops GRAPH.edges [--json]
+//! vitro solve vrp INSTANCE [--solver savings|local-search|auction] [--budget N] [--seed S] [--json]
 //! vitro solve pursuit GRAPH.edges --pursuers K [--visibility HOPS] [--algorithm mcts|minimax] [--evader exact|mcts|flee] --budget B --episodes N --turns T [--seed S] [--json]
 //! vitro check levels [--json] [--calibration FILE]
 //! vitro calibrate SCENARIO [--from physical] [--to discrete,interpolated] --out FILE [--jobs N] [--plot STEM]
@@ -38,6 +39,7 @@ mod run_args;
 mod search;
 mod solve;
 mod solve_pursuit;
+mod solve_vrp;
 mod validate;
 mod view;
 

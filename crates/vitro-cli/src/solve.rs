@@ -19,6 +19,8 @@ pub(crate) enum SolveCommand {
     /// Pursuit–evasion as a game: the pursuers' search against a smart evader, over many
     /// episodes (capture rate with its 95% interval).
     Pursuit(crate::solve_pursuit::PursuitArgs),
+    /// A capacitated vehicle routing problem, with time windows (CVRPLIB or Solomon text).
+    Vrp(crate::solve_vrp::VrpArgs),
 }
 
 #[derive(Debug, Args)]
@@ -60,6 +62,7 @@ pub(crate) fn solve(cmd: &SolveCommand) -> Result<(), Failure> {
         SolveCommand::Cops(args) => cops(args),
         SolveCommand::Patrol(args) => patrol(args),
         SolveCommand::Pursuit(args) => crate::solve_pursuit::pursuit(args),
+        SolveCommand::Vrp(args) => crate::solve_vrp::vrp(args),
     }
 }
 
