@@ -21,11 +21,14 @@
 //! Everything is deterministic: the same instance, solver and seed give the same solution, bit
 //! for bit (the random numbers are a seeded ChaCha8 stream; no platform maths is used).
 //!
-//! [`parse`] reads the standard text formats: CVRPLIB `.vrp` (TSPLIB `EUC_2D`, with the rounded
+//! [`parse()`] reads the standard text formats: CVRPLIB `.vrp` (TSPLIB `EUC_2D`, with the rounded
 //! distances its best-known values assume) and Solomon's VRPTW files.
 //!
-//! No maintained Rust crate fitted: `vrp-core` (reinterpreter/vrp) is a full rich-VRP framework
-//! with its own problem model and a large dependency tree; smaller crates are single-release.
+//! Crates looked at first: `vrp-core`/`vrp-solver` (reinterpreter/vrp) is a rich-VRP framework
+//! with its own problem model and a large dependency tree; `routik-solver` 0.1 is a first
+//! release; `solverforge-cvrp` is domain helpers for its own constraint-solver framework. None
+//! fitted a small, seed-deterministic core crate, so the solvers here are written from the
+//! papers cited.
 //!
 //! ```
 //! use vitro_routing::{Options, Solver, parse, solve};
