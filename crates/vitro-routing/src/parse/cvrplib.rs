@@ -1,6 +1,6 @@
 //! CVRPLIB's TSPLIB-style `.vrp` files (`EDGE_WEIGHT_TYPE : EUC_2D`).
 
-use super::{
+use super::lex::{
     ParseError, Token, expected, expected_at_end, expected_eof, nth, number, tokens, unsigned,
 };
 use crate::{Instance, Metric, Node};

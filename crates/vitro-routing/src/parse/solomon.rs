@@ -1,6 +1,6 @@
 //! Solomon's VRPTW files (and the Homberger–Gehring ones, which share the layout).
 
-use super::{ParseError, Token, expected, expected_eof, nth, number, tokens, unsigned};
+use super::lex::{ParseError, Token, expected, expected_eof, nth, number, tokens, unsigned};
 use crate::{Instance, Metric, Node};
 
 /// Reads a Solomon instance:
