@@ -106,7 +106,9 @@ fn check(file: &Path, text: &str) -> Result<bool, String> {
         return Ok(false);
     }
     let built = catch_unwind(AssertUnwindSafe(|| {
-        mission.build(file, text, &BuildOptions::default()).map(|_| ())
+        mission
+            .build(file, text, &BuildOptions::default())
+            .map(|_| ())
     }))
     .map_err(|_| "validated, then build panicked".to_string())?;
     built
