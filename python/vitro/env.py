@@ -301,17 +301,16 @@ class EvacuationEnv(ParallelEnv):
         if self.flat:
             one_hot = np.zeros(self._act_space.n, dtype=np.float32)
             one_hot[goal] = 1.0
-            flat = np.concatenate(
-                [
-                    fields["position"],
-                    [fields["active"]],
-                    one_hot,
-                    [fields["arrived"]],
-                    seen.reshape(-1),
-                    heard.reshape(-1),
-                    fields["time"],
-                ]
-            ).astype(np.float32)
+            parts = {
+                **fields,
+                "active": [fields["active"]],
+                "goal": one_hot,
+                "arrived": [fields["arrived"]],
+                "seen": seen.reshape(-1),
+                "heard": heard.reshape(-1),
+            }
+            # In the order of flat_fields, the one place the layout is written.
+            flat = np.concatenate([parts[name] for name in self.flat_fields]).astype(np.float32)
             return flat, k, mask
         return {**fields, "action_mask": mask}, k, mask
 
