@@ -307,6 +307,9 @@ fn run_loop(mut source: impl LiveSource, shared: Arc<Shared>) {
     publish(&mut source, &shared, t);
     let mut last_publish = Instant::now();
     let mut shown_events = ctl.events_fired();
+    // Interrupts counted up to the last look: one that came while this thread was between
+    // slices (after a publish, before `advance`) still gets its frame.
+    let mut seen_interrupts = shared.interrupts.load(Ordering::SeqCst);
     let (failure, stopped) = loop {
         if shared.quit.load(Ordering::SeqCst) {
             break (None, true);
@@ -324,7 +327,6 @@ fn run_loop(mut source: impl LiveSource, shared: Arc<Shared>) {
         if let Some(end) = end {
             until = until.min(end);
         }
-        let before = shared.interrupts.load(Ordering::SeqCst);
         let going = match source.advance(until) {
             Ok(going) => going,
             Err(e) => {
@@ -332,7 +334,9 @@ fn run_loop(mut source: impl LiveSource, shared: Arc<Shared>) {
                 break (Some(e.to_string()), false);
             }
         };
-        let interrupted = shared.interrupts.load(Ordering::SeqCst) != before;
+        let interrupts = shared.interrupts.load(Ordering::SeqCst);
+        let interrupted = interrupts != seen_interrupts;
+        seen_interrupts = interrupts;
         let at_end = !interrupted && end.is_some_and(|e| until >= e);
         // Up to `until` if it was reached (the run is over at its end time); otherwise up to
         // the last event (interrupted, or over early: its end condition, no event left).
