@@ -79,13 +79,17 @@ impl RawOsm {
     pub(crate) fn read<R: Read + Send>(reader: R) -> Result<Self, MapError> {
         let mut raw = RawOsm::default();
         let mut bad_role = None;
-        // osmpbf computes coordinates without checking for overflow (a corrupt granularity
-        // or offset): in a build with overflow checks that panics inside the reader, and is
-        // reported here as malformed data.
+        let mut bad_coord = None;
+        // osmpbf decodes deltas and computes coordinates without checking for overflow (a
+        // corrupt granularity, offset or delta), and its iterators do so before any element is
+        // handed out, so no validation on this side can come first: in a build with overflow
+        // checks a third-party decoder's overflow on hostile input panics inside the reader,
+        // and is caught here and reported as malformed data. (Without overflow checks the
+        // values wrap instead; the range check on every coordinate refuses those off the globe.)
         let read = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             ElementReader::new(reader).for_each(|el| match el {
-                Element::Node(n) => raw.add_node(n.id(), n.lat(), n.lon()),
-                Element::DenseNode(n) => raw.add_node(n.id(), n.lat(), n.lon()),
+                Element::Node(n) => raw.add_node(n.id(), n.lat(), n.lon(), &mut bad_coord),
+                Element::DenseNode(n) => raw.add_node(n.id(), n.lat(), n.lon(), &mut bad_coord),
                 Element::Way(w) => raw.ways.push(RawWay {
                     id: w.id(),
                     refs: w.refs().collect(),
@@ -114,17 +118,31 @@ impl RawOsm {
             })
         }));
         read.map_err(|_| {
-            MapError::Malformed("a coordinate out of range (corrupt .osm.pbf data)".into())
+            MapError::Malformed(
+                "the .osm.pbf decoder failed on corrupt data (a coordinate or delta out of range)"
+                    .into(),
+            )
         })??;
         if let Some(id) = bad_role {
             return Err(MapError::Malformed(format!(
                 "relation {id} has a member role that is not valid UTF-8"
             )));
         }
+        if let Some((id, lat, lon)) = bad_coord {
+            return Err(MapError::Malformed(format!(
+                "node {id} lies at latitude {lat}, longitude {lon}, off the globe"
+            )));
+        }
         Ok(raw)
     }
 
-    fn add_node(&mut self, id: i64, lat: f64, lon: f64) {
+    /// Adds a node; the first one off the globe (latitude beyond ±90°, longitude beyond ±180°)
+    /// is noted in `bad` instead.
+    fn add_node(&mut self, id: i64, lat: f64, lon: f64, bad: &mut Option<(i64, f64, f64)>) {
+        if !((-90.0..=90.0).contains(&lat) && (-180.0..=180.0).contains(&lon)) {
+            bad.get_or_insert((id, lat, lon));
+            return;
+        }
         self.node_count += 1;
         self.coords.insert(id, [lat, lon]);
         let b = self.bounds.get_or_insert([lat, lon, lat, lon]);
