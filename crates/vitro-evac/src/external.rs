@@ -18,6 +18,8 @@ use crate::act::{Drive, Pilot};
 use crate::agents::{Reporter, SENSE};
 use crate::brief::{BLUE, Brief};
 use crate::member::Member;
+use crate::radio::Evac;
+use crate::radio::Radio;
 use crate::sense::{Myself, Vision};
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -29,8 +31,7 @@ use vitro_site::map::Mode;
 use vitro_tactical::arena::Ev;
 use vitro_tactical::condition::{Role, Status};
 use vitro_tactical::entity::air::FlightCommand;
-use vitro_tactical::model::{Controller, Intention, Tactical};
-use vitro_tactical::radio::Radio;
+use vitro_tactical::model::{Controller, Intention};
 use vitro_tactical::world::Side;
 
 /// The roles an external controller can drive: the UGV (on the drive graph) and the
@@ -208,7 +209,7 @@ impl External {
 
     /// Looks (own position and condition, vision), reports hostiles, carries out a pending
     /// command.
-    fn look(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn look(&mut self, cx: &mut Context<'_, Evac>) {
         let me = cx.me();
         let mine = cx.sense(&Myself);
         let active = mine.is_some_and(|(c, _)| c.status == Status::Active);
@@ -243,7 +244,7 @@ impl External {
         }
     }
 
-    fn carry_out(&mut self, command: Command, pos: [f64; 3], cx: &mut Context<'_, Tactical>) {
+    fn carry_out(&mut self, command: Command, pos: [f64; 3], cx: &mut Context<'_, Evac>) {
         let me = cx.me();
         let goal = match command {
             Command::Hold => None,
@@ -287,8 +288,8 @@ impl External {
     }
 }
 
-impl Controller for External {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+impl Controller<Evac> for External {
+    fn handle(&mut self, input: Input<'_, Evac>, cx: &mut Context<'_, Evac>) {
         match input {
             Input::Event(Ev::Start) => {
                 cx.join(BLUE);

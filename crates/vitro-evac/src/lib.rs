@@ -28,12 +28,15 @@ mod error;
 pub mod external;
 mod member;
 mod plugin;
+pub mod radio;
 pub mod referee;
 pub mod sense;
 mod setup;
 mod snapshot;
 pub mod view;
 
+use crate::radio::Evac;
+use crate::radio::Radio;
 use brief::Brief;
 pub use error::MissionError;
 pub use member::Member;
@@ -46,8 +49,6 @@ use vitro::entity::EntityId;
 use vitro::sim::{Input, Simulation, StopReason};
 use vitro::time::{SimDuration, SimTime};
 use vitro_tactical::condition::{Role, Status};
-use vitro_tactical::model::Tactical;
-use vitro_tactical::radio::Radio;
 use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile, Validated};
 use vitro_tactical::world::Side;
 
@@ -68,7 +69,7 @@ struct Heard {
 /// A mission ready to run: the simulation, the briefing and the referee.
 pub struct Mission {
     /// The simulation (its `control()` drives pacing from another thread).
-    pub sim: Simulation<Tactical>,
+    pub sim: Simulation<Evac>,
     /// The briefing.
     pub brief: Arc<Brief>,
     /// The entities, in id order.
@@ -361,7 +362,7 @@ impl Mission {
 
 /// Collects the contacts and (when watched) the messages of `sim` into `heard` between
 /// samples.
-fn listen(sim: &mut Simulation<Tactical>, heard: &Arc<Mutex<Heard>>) {
+fn listen(sim: &mut Simulation<Evac>, heard: &Arc<Mutex<Heard>>) {
     let sink = heard.clone();
     sim.add_listener(move |f| {
         let Ok(mut h) = sink.lock() else { return };

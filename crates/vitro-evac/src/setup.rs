@@ -14,6 +14,7 @@ use super::brief::{Brief, FormationBrief};
 use crate::error::MissionError;
 use crate::external::{External, SharedDesk};
 use crate::member::Member;
+use crate::radio::Evac;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeSet;
@@ -34,7 +35,7 @@ use vitro_tactical::behaviour::formation::{FormationParams, LEADER_PROGRAM, Lead
 use vitro_tactical::behaviour::route::VisitNodes;
 use vitro_tactical::condition::{Condition, Role, Status};
 use vitro_tactical::entity::roads::{FreeGraph, Roads};
-use vitro_tactical::model::{Controller, Tactical};
+use vitro_tactical::model::Controller;
 use vitro_tactical::scenario::{EntityType, ScenarioFile, TieOrder, Validated};
 use vitro_tactical::types::{CtolKind, GroundKind, TroopKind, TypeBook, VtolKind};
 use vitro_tactical::world::Side;
@@ -194,7 +195,7 @@ fn random_free_node(
 
 /// What [`build`] returns.
 pub(crate) struct Built {
-    pub sim: Simulation<Tactical>,
+    pub sim: Simulation<Evac>,
     pub brief: Arc<Brief>,
     pub members: Vec<Member>,
 }
@@ -283,7 +284,7 @@ pub(crate) fn build(
 
     let mut arena = Arena::with(site.clone(), roads.clone(), Arc::new(ty.clone()));
     arena.calibration = v.calibration.clone();
-    let mut sim = Simulation::<Tactical>::new(arena, seed);
+    let mut sim = Simulation::<Evac>::new(arena, seed);
     if file.tie_order == TieOrder::Shuffled {
         sim.shuffle_ties();
     }
@@ -309,7 +310,7 @@ pub(crate) fn build(
     // Drive-graph nodes holding a vehicle: two rigid bodies must not start in one place.
     let mut taken = BTreeSet::new();
     for m in &members {
-        let agent: Box<dyn Controller> = match m.role {
+        let agent: Box<dyn Controller<Evac>> = match m.role {
             Role::Truck => Box::new(Commander::new(
                 brief.clone(),
                 Drive(m.level),
@@ -397,7 +398,7 @@ pub(crate) fn build(
 
 /// Places `m`'s body (if it has one at the start) and its condition.
 fn place(
-    sim: &mut Simulation<Tactical>,
+    sim: &mut Simulation<Evac>,
     m: &Member,
     brief: &Brief,
     rng: &mut ChaCha8Rng,

@@ -14,6 +14,7 @@ use crate::agents::red::{Adversary, Hvt};
 use crate::agents::trooper::Trooper;
 use crate::agents::ugv::Ugv;
 use crate::brief::Brief;
+use crate::radio::{Evac, Radio};
 use crate::referee::Referee;
 use crate::{Heard, Mission};
 use serde::{Deserialize, Serialize};
@@ -26,7 +27,6 @@ use vitro_tactical::actuate::by_level::Drive;
 use vitro_tactical::arena::{Arena, ArenaState, ArenaStateRef, Ev, site_digest};
 use vitro_tactical::behaviour::route::VisitNodes;
 use vitro_tactical::model::Controller;
-use vitro_tactical::radio::Radio;
 
 /// The agent kinds of the mission, saved as an enum: one declaration makes the borrowed
 /// form (written), the owned form (read), and the conversions from and to a boxed
@@ -45,7 +45,7 @@ macro_rules! agent_kinds {
             $($kind(Box<$ty>),)*
         }
         #[allow(clippy::borrowed_box)] // the model's agent type is the box
-        fn agent_ref(c: &Box<dyn Controller>) -> Result<AgentRef<'_>, SnapshotError> {
+        fn agent_ref(c: &Box<dyn Controller<Evac>>) -> Result<AgentRef<'_>, SnapshotError> {
             let any = (**c).as_any();
             $(if let Some(a) = any.downcast_ref::<$ty>() {
                 return Ok(AgentRef::$kind(a));
@@ -55,9 +55,9 @@ macro_rules! agent_kinds {
                 any.type_id()
             )))
         }
-        fn agent_box(a: AgentOwned) -> Result<Box<dyn Controller>, SnapshotError> {
+        fn agent_box(a: AgentOwned) -> Result<Box<dyn Controller<Evac>>, SnapshotError> {
             Ok(match a {
-                $(AgentOwned::$kind(a) => a as Box<dyn Controller>,)*
+                $(AgentOwned::$kind(a) => a as Box<dyn Controller<Evac>>,)*
             })
         }
     };

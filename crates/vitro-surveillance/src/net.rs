@@ -1,11 +1,9 @@
 //! What the team says over the radio: the contract net's bodies (a call for a sector, a
 //! bid, a refusal, a confirmation), status reports, sighting reports and revocations.
 //!
-//! The mission has its own vocabulary (not the evacuation's [`Radio`]): a model's message
-//! type is the mission's to choose, and the contract net reads bids from it through
+//! The mission has its own vocabulary: the tactical model's message type is the mission's
+//! to choose ([`vitro_tactical::radio`]), and the contract net reads bids from it through
 //! [`Bid`].
-//!
-//! [`Radio`]: vitro_tactical::radio::Radio
 
 use serde::{Deserialize, Serialize};
 use vitro::comm::GroupId;

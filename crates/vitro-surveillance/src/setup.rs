@@ -5,7 +5,7 @@ use crate::agents::red::Prowler;
 use crate::agents::station::Station;
 use crate::agents::uav::Uav;
 use crate::brief::{Airframe, Discipline, Gait, RedBrief, StationBrief, TeamBrief};
-use crate::model::{Field, Unit};
+use crate::model::Field;
 use crate::scenario::Validated;
 use crate::sector::grid;
 use rand::{Rng, SeedableRng};
@@ -24,6 +24,7 @@ use vitro_tactical::arena::{Arena, Ev};
 use vitro_tactical::condition::{Condition, Role};
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::roads::{FreeGraph, Roads};
+use vitro_tactical::model::Controller;
 use vitro_tactical::scenario::EntityType;
 use vitro_tactical::sensor::track::TrackConfig;
 use vitro_tactical::types::{CtolKind, GroundKind, TroopKind, TypeBook, VtolKind};
@@ -238,7 +239,7 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, SetupError> {
         .collect();
     for (k, m) in members.iter().enumerate() {
         let err = |e: String| SetupError::Place(m.name.clone(), e);
-        let agent: Box<dyn Unit> = match m.kind {
+        let agent: Box<dyn Controller<Field>> = match m.kind {
             None => Box::new(Station::new(station_brief.clone())),
             Some(t) if t.is_aircraft() => {
                 let fixed_wing = t == EntityType::Procerus;

@@ -2,7 +2,7 @@
 //! queue, random streams, trace, losses) as bytes, and back onto a fresh build of the same
 //! scenario.
 //!
-//! The agents are boxed [`Unit`]s, saved as an enum of the mission's three agent kinds, each
+//! The agents are boxed [`Controller`]s, saved as an enum of the mission's three agent kinds, each
 //! by its own serde derives. Their briefings (shared, rebuilt from the scenario) are not
 //! written: the `brief` fields are marked `#[serde(with = "vitro_mission::snapshot::briefed")]`
 //! and taken, on reading, from the run being restored.
@@ -10,7 +10,7 @@
 use crate::agents::red::Prowler;
 use crate::agents::station::Station;
 use crate::agents::uav::Uav;
-use crate::model::Unit;
+use crate::model::Field;
 use crate::net::Net;
 use crate::{Heard, Operation};
 use serde::{Deserialize, Serialize};
@@ -21,6 +21,7 @@ use vitro::time::SimTime;
 use vitro_mission::SnapshotError;
 use vitro_mission::snapshot::briefed::Restoring;
 use vitro_tactical::arena::{Arena, ArenaState, ArenaStateRef, Ev, site_digest};
+use vitro_tactical::model::Controller;
 
 /// An agent, borrowed, for saving.
 #[derive(Serialize)]
@@ -39,7 +40,7 @@ enum AgentOwned {
 }
 
 #[allow(clippy::borrowed_box)] // the model's agent type is the box
-fn agent_ref(u: &Box<dyn Unit>) -> Result<AgentRef<'_>, SnapshotError> {
+fn agent_ref(u: &Box<dyn Controller<Field>>) -> Result<AgentRef<'_>, SnapshotError> {
     let any = (**u).as_any();
     if let Some(a) = any.downcast_ref::<Station>() {
         Ok(AgentRef::Station(a))
@@ -54,11 +55,11 @@ fn agent_ref(u: &Box<dyn Unit>) -> Result<AgentRef<'_>, SnapshotError> {
     }
 }
 
-fn agent_box(a: AgentOwned) -> Result<Box<dyn Unit>, SnapshotError> {
+fn agent_box(a: AgentOwned) -> Result<Box<dyn Controller<Field>>, SnapshotError> {
     Ok(match a {
-        AgentOwned::Station(a) => a as Box<dyn Unit>,
-        AgentOwned::Uav(a) => a as Box<dyn Unit>,
-        AgentOwned::Prowler(a) => a as Box<dyn Unit>,
+        AgentOwned::Station(a) => a as Box<dyn Controller<Field>>,
+        AgentOwned::Uav(a) => a as Box<dyn Controller<Field>>,
+        AgentOwned::Prowler(a) => a as Box<dyn Controller<Field>>,
     })
 }
 

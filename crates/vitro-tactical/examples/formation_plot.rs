@@ -28,7 +28,7 @@ use vitro_tactical::check::Setup;
 use vitro_tactical::check::scenario::trip;
 use vitro_tactical::entity::Level;
 use vitro_tactical::model::Tactical;
-use vitro_tactical::radio::{Order, Radio};
+use vitro_tactical::radio::{Basic, Command, Signal};
 use vitro_tactical::types::TroopKind;
 
 type P2 = [f64; 2];
@@ -142,14 +142,14 @@ fn run(setup: &Setup) -> Result<Run, Error> {
     let hq = Script::new(vec![(
         SimTime::from_secs(1),
         leader,
-        Radio::Order(Order::GoTo(mid)),
+        Basic::from(Command::GoTo(mid)),
     )])
-    .then_on_arrival(vec![(leader, Radio::Order(Order::GoTo(goal)))]);
+    .then_on_arrival(vec![(leader, Basic::from(Command::GoTo(goal)))]);
     let hq = sim.add_agent("hq", Box::new(hq))?;
     for &id in members.iter().chain([&leader, &hq]) {
         sim.schedule(SimTime::ZERO, Target::Entity(id), Ev::Start)?;
     }
-    let done = Radio::Signal("arrived".into(), String::new());
+    let done = Basic::from(Signal::new("arrived", ""));
     let heard = |sim: &Simulation<Tactical>| {
         sim.agent(hq)
             .and_then(|a| a.as_any().downcast_ref::<Script>())

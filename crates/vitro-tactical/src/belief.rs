@@ -2,11 +2,11 @@
 //! own camera or from a position report over the radio, with its age.
 //!
 //! No agent reads another entity's state from the world. It learns where a friend is from
-//! that friend's own position reports ([`Radio::Position`], blue-force tracking: every unit
+//! that friend's own position reports ([`Fix`], blue-force tracking: every unit
 //! sends its GPS fix every few seconds, see [`Beacon`]), which the simulated radio delays,
 //! loses or bounces out of range; and where anyone is from its own camera
 //! ([`Sighting`], see [`Whereabouts::saw`]) or a friend's contact
-//! report ([`Radio::Contact`]). [`Whereabouts`] keeps
+//! report ([`Contact`]). [`Whereabouts`] keeps
 //! the newest fix of each entity and dead-reckons it forward ([`Fix::predicted`]) for at
 //! most [`Whereabouts::stale_after`]; older than that, the agent does not know where that
 //! entity is, and must hold, search, or go to the last place it was reported at.
@@ -36,7 +36,7 @@
 use crate::arena::OwnPose;
 use crate::model::Tactical;
 pub use crate::radio::Fix;
-use crate::radio::Radio;
+use crate::radio::{Carries, Contact, Message, Reports};
 use crate::sensor::Sighting;
 use serde::{Deserialize, Serialize};
 use vitro::comm::{Address, Envelope, Outgoing};
@@ -84,25 +84,23 @@ impl Whereabouts {
     /// Takes in a received message: a position report updates its sender's fix, a contact
     /// report the fix of the entity it names (where it was seen, when the report was sent).
     /// True if it was either.
-    pub fn hear(&mut self, env: &Envelope<Radio>) -> bool {
-        match &env.body {
-            Radio::Position(fix) => {
-                self.reports += 1;
-                self.note(env.from, *fix);
-                true
-            }
-            Radio::Contact { target, pos, .. } => {
-                let fix = Fix {
-                    pos: *pos,
-                    heading: 0.0,
-                    course: 0.0,
-                    speed: 0.0,
-                    at: env.sent_at,
-                };
-                self.note(*target, fix);
-                true
-            }
-            _ => false,
+    pub fn hear<M: Reports>(&mut self, env: &Envelope<M>) -> bool {
+        if let Some(fix) = env.body.read::<Fix>() {
+            self.reports += 1;
+            self.note(env.from, fix);
+            true
+        } else if let Some(Contact { target, pos, .. }) = env.body.read::<Contact>() {
+            let fix = Fix {
+                pos,
+                heading: 0.0,
+                course: 0.0,
+                speed: 0.0,
+                at: env.sent_at,
+            };
+            self.note(target, fix);
+            true
+        } else {
+            false
         }
     }
 
@@ -155,7 +153,7 @@ impl Whereabouts {
 }
 
 /// Blue-force tracking: sends the owner's own GPS fix ([`OwnPose`]) as a
-/// [`Radio::Position`] every `period`.
+/// position report ([`Fix`]) every `period`.
 ///
 /// The owner's controller starts it once ([`Beacon::start`]) and passes the timer back
 /// ([`Beacon::is_timer`], [`Beacon::tick`]).
@@ -186,7 +184,7 @@ impl Beacon {
     }
 
     /// Sends the first report now and sets the timer for the next.
-    pub fn start(&mut self, cx: &mut Context<'_, Tactical>) {
+    pub fn start<M: Message + Carries<Fix>>(&mut self, cx: &mut Context<'_, Tactical<M>>) {
         self.tick(cx);
     }
 
@@ -197,13 +195,13 @@ impl Beacon {
 
     /// Sends the owner's fix, if it has a body, and sets the timer for the next report (a
     /// zero period sends nothing: no blue-force tracking).
-    pub fn tick(&mut self, cx: &mut Context<'_, Tactical>) {
+    pub fn tick<M: Message + Carries<Fix>>(&mut self, cx: &mut Context<'_, Tactical<M>>) {
         if self.period == SimDuration::ZERO {
             return;
         }
         if let Some(pose) = cx.sense(&OwnPose) {
             let fix = Fix::after(&pose, cx.now(), self.last.as_ref());
-            cx.send(Outgoing::new(self.to, Radio::Position(fix)));
+            cx.send(Outgoing::new(self.to, M::from(fix)));
             self.last = Some(fix);
             self.sent += 1;
         }

@@ -1,11 +1,14 @@
 //! The tactical model: the [`Arena`] as a `vitro` environment, its agents any
-//! [`Controller`]s.
+//! [`Controller`]s, its messages the mission's own.
 //!
-//! [`Tactical`] is a [`Model`] whose environment is the arena, whose events are [`Ev`] and
-//! whose agents are boxed [`Controller`]s, so that one simulation can hold controllers of
-//! every kind and level (each generic over its top actuator, e.g. `VisitNodes<GoToNode>`);
-//! a controller added with [`Simulation::add`](vitro::sim::Simulation::add) is read back
-//! by its handle, in its own type.
+//! [`Tactical<M>`](Tactical) is a [`Model`] whose environment is the arena, whose events
+//! are [`Ev`], whose messages are the mission's type `M` and whose agents are boxed
+//! [`Controller`]s, so that one simulation can hold controllers of every kind
+//! and level (each generic over its top actuator, e.g. `VisitNodes<GoToNode>`); a
+//! controller added with [`Simulation::add`](vitro::sim::Simulation::add) is read back by
+//! its handle, in its own type. Every mission on the arena runs on this one model, with its
+//! own vocabulary: the shared behaviours ask of `M` only the words they speak
+//! ([`radio`](crate::radio)), and `M` defaults to the stock [`Basic`].
 //! The environment's own events run the levels: discrete hops and maneuvers, and the
 //! fixed-step clocks of the continuous levels.
 //!
@@ -37,16 +40,18 @@
 //! ```
 
 use crate::arena::{Arena, Clock, Ev};
-use crate::radio::Radio;
+use crate::radio::{Basic, Message};
 use crate::{actuate, autopilot};
 use std::any::Any;
+use std::marker::PhantomData;
 use vitro::entity::EntityId;
 use vitro::env::Effects;
 use vitro::sim::{Agent, Context, Holds, Input, Model};
 use vitro::time::SimTime;
 
-/// The tactical model over the [`Arena`].
-pub struct Tactical;
+/// The tactical model over the [`Arena`], its messages of type `M` (a mission's vocabulary;
+/// the stock [`Basic`] by default).
+pub struct Tactical<M = Basic>(PhantomData<fn() -> M>);
 
 /// Access to a controller's concrete type (to read its state after a run).
 pub trait AsAny: Any {
@@ -60,10 +65,13 @@ impl<T: Any> AsAny for T {
     }
 }
 
-/// An agent of the tactical model: it senses and acts through the context only.
-pub trait Controller: AsAny {
+/// An agent of a tactical model `T` (a [`Tactical<M>`](Tactical), `M` the mission's
+/// messages): it senses and acts through the context only. A controller that says nothing,
+/// or speaks only shared words, is written once for every mission:
+/// `impl<M: Message> Controller<Tactical<M>> for MyController`.
+pub trait Controller<T: Model = Tactical>: AsAny {
     /// Reacts to one input.
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>);
+    fn handle(&mut self, input: Input<'_, T>, cx: &mut Context<'_, T>);
     /// What the agent says it is doing, for viewers and recordings (never read by the
     /// simulation itself).
     fn intention(&self) -> Option<Intention> {
@@ -91,8 +99,8 @@ pub struct Intention {
     pub heat: Vec<([f64; 3], f64)>,
 }
 
-impl Agent<Tactical> for Box<dyn Controller> {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+impl<M: Message> Agent<Tactical<M>> for Box<dyn Controller<Tactical<M>>> {
+    fn handle(&mut self, input: Input<'_, Tactical<M>>, cx: &mut Context<'_, Tactical<M>>) {
         (**self).handle(input, cx);
     }
 }
@@ -100,7 +108,7 @@ impl Agent<Tactical> for Box<dyn Controller> {
 /// Any controller goes into the model boxed, and comes back out by its type:
 /// [`Simulation::add`](vitro::sim::Simulation::add) returns a handle that
 /// [`Simulation::agent`](vitro::sim::Simulation::agent) reads the controller back by.
-impl<A: Controller> Holds<A> for Box<dyn Controller> {
+impl<M: Message, A: Controller<Tactical<M>>> Holds<A> for Box<dyn Controller<Tactical<M>>> {
     fn hold(agent: A) -> Self {
         Box::new(agent)
     }
@@ -109,11 +117,11 @@ impl<A: Controller> Holds<A> for Box<dyn Controller> {
     }
 }
 
-impl Model for Tactical {
+impl<M: Message> Model for Tactical<M> {
     type Env = Arena;
     type Event = Ev;
-    type Msg = Radio;
-    type Agent = Box<dyn Controller>;
+    type Msg = M;
+    type Agent = Box<dyn Controller<Tactical<M>>>;
 
     fn on_env_event(env: &mut Arena, event: &Ev, fx: &mut Effects<'_, Ev>) {
         run_env_event(env, event, fx);

@@ -1,8 +1,37 @@
-//! The tactical radio: what agents of the [`Tactical`](crate::model::Tactical) model say to
-//! each other through the simulated network (`vitro::comm`).
+//! The tactical radio: the words the shared behaviours say to each other through the
+//! simulated network (`vitro::comm`), and how a mission's own messages carry them.
 //!
-//! One closed vocabulary for every controller of the tactical world, so that messages are
-//! plain data (serialised into the trace hash) and any agent can read any report.
+//! The vocabulary is open: a mission chooses its message type `M` (the `Msg` of
+//! [`Tactical<M>`](crate::model::Tactical)), and a shared behaviour asks of it only the
+//! words it speaks, each a small type of this module: a position report ([`Fix`]), a
+//! sighting ([`Contact`]), an order to move ([`Command`]) and a named signal ([`Signal`]).
+//! `M: Carries<Fix>` says that `M` is made from a fix (`From`) and read back as one
+//! ([`Message::read`]); a tracker asks for [`Reports`] (fixes and contacts), a formation
+//! leader for [`SquadTalk`], the four words of its protocol. Messages stay plain data, serialised into the trace hash as the mission's own
+//! type. [`Basic`] is a ready vocabulary holding the four words and nothing else, for
+//! tests, examples and missions that need no words of their own.
+//!
+//! ```
+//! use vitro_tactical::radio::{Basic, Carries, Command, Message, Signal};
+//!
+//! // A mission's own vocabulary: its words, and the shared ones it carries.
+//! #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+//! enum Net { Alarm(u32), Move(Command) }
+//! impl From<Command> for Net {
+//!     fn from(c: Command) -> Net { Net::Move(c) }
+//! }
+//! impl Carries<Command> for Net {
+//!     fn carried(&self) -> Option<Command> {
+//!         match self { Net::Move(c) => Some(c.clone()), _ => None }
+//!     }
+//! }
+//! let order = Net::from(Command::GoTo([10.0, 20.0]));
+//! assert_eq!(order.read::<Command>(), Some(Command::GoTo([10.0, 20.0])));
+//! assert_eq!(Net::Alarm(3).read::<Command>(), None);
+//! // The stock vocabulary carries all four words.
+//! let arrived = Basic::from(Signal::new("arrived", ""));
+//! assert_eq!(arrived.read::<Signal>().map(|s| s.name), Some("arrived".to_string()));
+//! ```
 
 use crate::entity::{Level, Pose};
 use crate::world::Side;
@@ -10,68 +39,120 @@ use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
 use vitro::time::{SimDuration, SimTime};
 
-/// A message of the tactical model.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum Radio {
-    /// "I see `target` at `pos`, and I take it for `seen_as`."
-    Contact {
-        /// Who was seen.
-        target: EntityId,
-        /// Where, world metres.
-        pos: [f64; 3],
-        /// The side the observer believes it is on.
-        seen_as: Side,
-    },
-    /// The sender's own fix (blue-force tracking: its GPS position, heading and speed, and
-    /// when it was taken).
-    Position(Fix),
-    /// An order to the receiver: what to do next.
-    Order(Order),
-    /// The sender's plan, step by step (e.g. the actions of a repaired plan).
-    Plan(Vec<String>),
-    /// A named signal with a short argument (e.g. `("formation", "wedge")`).
-    Signal(String, String),
-    /// Task allocation by contract net ([`vitro::protocol::contract_net`]): a call for
-    /// proposals for `task` at `at` (no `cost`), or a proposal for it bidding `cost`
-    /// (lower wins).
-    Tender {
-        /// What is allocated (e.g. `"hunt"`, a pursuer slot of the HVT hunt).
-        task: String,
-        /// Where the task is, world (x, y), as far as the caller knows.
-        at: [f64; 2],
-        /// The bid, in a proposal.
-        cost: Option<f64>,
-    },
-}
-
-impl vitro::protocol::Bid for Radio {
-    /// The cost a [`Radio::Tender`] proposal bids; no other message bids.
-    fn bid(&self) -> Option<f64> {
-        match self {
-            Radio::Tender { cost, .. } => *cost,
-            _ => None,
-        }
+/// A message type of a tactical model: plain data (cloned into the network, serialised
+/// into the trace hash). Every such type has it; [`read`](Message::read) takes a shared
+/// word back out of one.
+pub trait Message: Clone + Serialize + 'static {
+    /// The `T` this message carries, if it is one (e.g. `env.body.read::<Fix>()`).
+    fn read<T>(&self) -> Option<T>
+    where
+        Self: Carries<T>,
+    {
+        self.carried()
     }
 }
 
-/// What an [`Radio::Order`] tells the receiver to do.
+impl<M: Clone + Serialize + 'static> Message for M {}
+
+/// A message type that carries the shared word `T`: made from one (`From<T>`), and read
+/// back as one (the same `T`, for a message made from it).
+pub trait Carries<T>: From<T> {
+    /// The `T` this message carries, if it is one.
+    fn carried(&self) -> Option<T>;
+}
+
+/// The words of tracking (see [`belief`](crate::belief)): position reports and contacts.
+/// Every message type carrying the two has it.
+pub trait Reports: Message + Carries<Fix> + Carries<Contact> {}
+
+impl<M: Message + Carries<Fix> + Carries<Contact>> Reports for M {}
+
+/// The words of a formation squad's protocol (see
+/// [`behaviour::formation`](crate::behaviour::formation)): position reports, contacts,
+/// orders to move and named signals. Every message type carrying the four has it.
+pub trait SquadTalk: Reports + Carries<Command> + Carries<Signal> {}
+
+impl<M: Reports + Carries<Command> + Carries<Signal>> SquadTalk for M {}
+
+/// "I see `target` at `pos`, and I take it for `seen_as`."
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Contact {
+    /// Who was seen.
+    pub target: EntityId,
+    /// Where, world metres.
+    pub pos: [f64; 3],
+    /// The side the observer believes it is on.
+    pub seen_as: Side,
+}
+
+/// An order to the receiver to move: where to go next, or to stop.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum Order {
+pub enum Command {
     /// Go to a world point (x, y).
     GoTo([f64; 2]),
     /// Follow an entity, keeping near it.
     Follow(EntityId),
-    /// Pursue `target` (a high-value target) together with `team` (the pursuers, the first
-    /// of them leading).
-    Pursue {
-        /// Who to catch.
-        target: EntityId,
-        /// The pursuers; the first coordinates the others.
-        team: Vec<EntityId>,
-    },
     /// Stop and hold position.
     Hold,
 }
+
+/// A named signal with a short argument (e.g. `formation` with `wedge 2 5 -`): the
+/// formations' protocol words and the signals their rule programs raise.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Signal {
+    /// Its name, e.g. `"formation"`.
+    pub name: String,
+    /// Its argument, e.g. `"wedge 2 5 -"` (may be empty).
+    pub arg: String,
+}
+
+impl Signal {
+    /// The signal `name` with argument `arg`.
+    pub fn new(name: impl Into<String>, arg: impl Into<String>) -> Signal {
+        Signal {
+            name: name.into(),
+            arg: arg.into(),
+        }
+    }
+
+    /// Whether it is named `name`.
+    pub fn is(&self, name: &str) -> bool {
+        self.name == name
+    }
+}
+
+/// The stock vocabulary: the shared words and nothing else.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Basic {
+    /// A sighting.
+    Contact(Contact),
+    /// The sender's own fix (blue-force tracking).
+    Position(Fix),
+    /// An order to move.
+    Order(Command),
+    /// A named signal.
+    Signal(Signal),
+}
+
+macro_rules! basic_carries {
+    ($($word:ident => $variant:ident),*) => {$(
+        impl From<$word> for Basic {
+            fn from(w: $word) -> Basic {
+                Basic::$variant(w)
+            }
+        }
+        impl Carries<$word> for Basic {
+            fn carried(&self) -> Option<$word> {
+                match self {
+                    Basic::$variant(w) => Some(w.clone()),
+                    _ => None,
+                }
+            }
+        }
+    )*};
+}
+
+basic_carries!(Contact => Contact, Fix => Position, Command => Order, Signal => Signal);
 
 /// One fix of an entity: where it was, which way it faced and moved, and when.
 #[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -25,7 +25,7 @@ use vitro_tactical::check::scenario::trip;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::route::Track;
 use vitro_tactical::model::{Controller, Tactical};
-use vitro_tactical::radio::{Order, Radio};
+use vitro_tactical::radio::{Basic, Command, Contact, Signal};
 use vitro_tactical::types::TroopKind;
 use vitro_tactical::world::Side;
 
@@ -90,7 +90,7 @@ struct Plan {
     /// Members (by index) whose controller never moves them.
     frozen: Vec<usize>,
     /// Extra messages from the commander to the leader: (time, message).
-    extra: Vec<(f64, Radio)>,
+    extra: Vec<(f64, Basic)>,
     /// Remove member i's body at time t.
     remove: Option<(f64, usize)>,
     /// A red trooper standing at this node.
@@ -197,11 +197,11 @@ fn run(plan: &Plan) -> Outcome {
             .add_trooper(id, TroopKind::Blue, plan.level, plan.from, 0.0)
             .unwrap();
     }
-    let first = Radio::Order(Order::GoTo(plan.waypoints[0]));
+    let first = Basic::from(Command::GoTo(plan.waypoints[0]));
     let mut orders = vec![(SimTime::from_secs(1), leader_id, first)];
-    let later: Vec<(EntityId, Radio)> = plan.waypoints[1..]
+    let later: Vec<(EntityId, Basic)> = plan.waypoints[1..]
         .iter()
-        .map(|&p| (leader_id, Radio::Order(Order::GoTo(p))))
+        .map(|&p| (leader_id, Basic::from(Command::GoTo(p))))
         .collect();
     let vip = plan.vip.map(|(node, at)| {
         let id = sim
@@ -210,7 +210,7 @@ fn run(plan: &Plan) -> Outcome {
         sim.env_mut()
             .add_trooper(id, TroopKind::Vip, plan.level, node, 0.0)
             .unwrap();
-        let join = Radio::Signal("join".into(), id.0.to_string());
+        let join = Basic::from(Signal::new("join", id.0.to_string()));
         orders.push((SimTime::from_secs_f64(at), leader_id, join));
         id
     });
@@ -242,7 +242,7 @@ fn run(plan: &Plan) -> Outcome {
     let (mut forbidden, mut checks, mut last) = (Vec::new(), 0, SimTime::MAX);
     let mut arrived_s = None;
     let mut removed = false;
-    let done = Radio::Signal("arrived".into(), String::new());
+    let done = Basic::from(Signal::new("arrived", ""));
     loop {
         sim.run(limit, |sim| {
             let now = sim.now();
@@ -619,11 +619,11 @@ fn a_contact_report_turns_the_line_to_the_threat() {
     // report comes at 150 s.
     let threat = node_xy(path[path.len() / 2]);
     let threat = [threat[0] + 60.0, threat[1] + 60.0];
-    let report = Radio::Contact {
+    let report = Basic::from(Contact {
         target: EntityId(99),
         pos: [threat[0], threat[1], 0.0],
         seen_as: Side::Red,
-    };
+    });
     let mut plan = Plan::short();
     plan.extra = vec![(150.0, report)];
     let o = run(&plan);
@@ -810,7 +810,7 @@ fn a_stuck_member_delays_the_leader_at_most_the_timeout() {
     // Told to leave at 10 s, it no longer holds the squad up.
     let mut left = Plan::short();
     left.frozen = vec![2];
-    left.extra = vec![(10.0, Radio::Signal("leave".into(), "2".into()))];
+    left.extra = vec![(10.0, Basic::from(Signal::new("leave", "2")))];
     let o = run(&left);
     summary("a stuck member leaves", &o);
     let t = o.arrived_s.expect("the squad arrives");
@@ -826,10 +826,10 @@ fn the_vip_joins_and_hold_stops_the_squad() {
     // The VIP waits by the route; it joins at 60 s. The squad holds from 100 s to 160 s.
     plan.vip = Some((path[path.len() / 3], 60.0));
     plan.extra = vec![
-        (100.0, Radio::Order(Order::Hold)),
+        (100.0, Basic::from(Command::Hold)),
         (
             160.0,
-            Radio::Order(Order::GoTo(node_xy(*path.last().unwrap()))),
+            Basic::from(Command::GoTo(node_xy(*path.last().unwrap()))),
         ),
     ];
     let o = run(&plan);

@@ -17,6 +17,8 @@ use super::patrol::PatrolUnit;
 use super::{Reporter, SENSE, last_known, note_friends, tell};
 use crate::act::Pilot;
 use crate::brief::{BLUE, Brief};
+use crate::radio::Evac;
+use crate::radio::Radio;
 use crate::sense::{GroundView, Myself, VisionOf};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
@@ -30,8 +32,7 @@ use vitro_tactical::arena::{Ev, OwnPose};
 use vitro_tactical::belief::{Beacon, Whereabouts};
 use vitro_tactical::condition::Status;
 use vitro_tactical::entity::air::FlightCommand;
-use vitro_tactical::model::{Controller, Intention, Tactical};
-use vitro_tactical::radio::Radio;
+use vitro_tactical::model::{Controller, Intention};
 
 /// Timer key of the flight re-planning.
 const PLAN: u64 = 40;
@@ -134,7 +135,7 @@ impl Aircraft {
 
     /// Where it believes the truck is now (dead-reckoned from the last report, or the last
     /// reported place once that is stale; none before the first report).
-    fn truck(&self, cx: &mut Context<'_, Tactical>) -> Option<[f64; 3]> {
+    fn truck(&self, cx: &mut Context<'_, Evac>) -> Option<[f64; 3]> {
         last_known(&self.known, self.brief.truck, cx.now())
     }
 
@@ -164,7 +165,7 @@ impl Aircraft {
     }
 
     /// A patrol step: the next checkpoint of the patrol game, flown to (or none: it stays).
-    fn patrol_step(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn patrol_step(&mut self, cx: &mut Context<'_, Evac>) {
         let truck = self
             .truck(cx)
             .map(|p| self.brief.site.to_town([p[0], p[1]]));
@@ -207,7 +208,7 @@ impl Aircraft {
     }
 
     /// A Vidar's turn: the lead makes or repairs the cover plan; each starts its next step.
-    fn cover_turn(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn cover_turn(&mut self, cx: &mut Context<'_, Evac>) {
         let Some(truck) = self.truck(cx) else {
             return;
         };
@@ -219,7 +220,7 @@ impl Aircraft {
     }
 
     /// The lead's turn: makes or repairs the cover plan and hands out the steps.
-    fn lead_cover(&mut self, k: usize, cx: &mut Context<'_, Tactical>) {
+    fn lead_cover(&mut self, k: usize, cx: &mut Context<'_, Evac>) {
         let me = cx.me();
         let now = cx.now();
         let own = cx.sense(&OwnPose).map(|p| p.pos);
@@ -269,7 +270,7 @@ impl Aircraft {
     }
 
     /// Starts the next cover step if it is due, the truck at checkpoint `k`.
-    fn watch_next(&mut self, k: usize, cx: &mut Context<'_, Tactical>) {
+    fn watch_next(&mut self, k: usize, cx: &mut Context<'_, Evac>) {
         let here = cx
             .sense(&OwnPose)
             .map_or(k, |p| nearest(&self.points, p.pos));
@@ -284,7 +285,7 @@ impl Aircraft {
 
     /// The cover step under way reached its checkpoint: the camera looks at it, and the
     /// look is reported to the lead.
-    fn look(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn look(&mut self, cx: &mut Context<'_, Evac>) {
         let Some(w) = self.watcher.as_mut() else {
             return;
         };
@@ -304,7 +305,7 @@ impl Aircraft {
     }
 
     /// Tells the lead `what` (the lead itself takes it at once).
-    fn report(&mut self, lead: EntityId, what: Heard, cx: &mut Context<'_, Tactical>) {
+    fn report(&mut self, lead: EntityId, what: Heard, cx: &mut Context<'_, Evac>) {
         if lead != cx.me() {
             tell(cx, lead, what.message());
             return;
@@ -328,7 +329,7 @@ impl Aircraft {
     }
 
     /// Recalled by its base: it tells the lead and flies back to the route's start.
-    fn recall(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn recall(&mut self, cx: &mut Context<'_, Evac>) {
         let Some(w) = self.watcher.as_mut() else {
             return;
         };
@@ -354,7 +355,7 @@ impl Aircraft {
 
     /// Joins the hunt once the truck is at the extraction point and the hunt lead has named a
     /// search point.
-    fn check_hunt(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn check_hunt(&mut self, cx: &mut Context<'_, Evac>) {
         if self.hunting || self.overwatch.point.is_none() {
             return;
         }
@@ -369,7 +370,7 @@ impl Aircraft {
     }
 
     /// Circles the hunt's search point (aircraft spread round it by id).
-    fn fly_orbit(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn fly_orbit(&mut self, cx: &mut Context<'_, Evac>) {
         let slot = cx.me().0 as usize;
         let points: Vec<[f64; 3]> = self
             .overwatch
@@ -381,7 +382,7 @@ impl Aircraft {
     }
 
     /// Flies through `points` (world metres; none: no command) and shows them as its path.
-    fn fly(&mut self, points: Vec<[f64; 3]>, cx: &mut Context<'_, Tactical>) {
+    fn fly(&mut self, points: Vec<[f64; 3]>, cx: &mut Context<'_, Evac>) {
         if points.is_empty() {
             return;
         }
@@ -395,7 +396,7 @@ impl Aircraft {
         );
     }
 
-    fn plan(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn plan(&mut self, cx: &mut Context<'_, Evac>) {
         if self.hunting {
             return;
         }
@@ -421,8 +422,8 @@ impl Aircraft {
     }
 }
 
-impl Controller for Aircraft {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+impl Controller<Evac> for Aircraft {
+    fn handle(&mut self, input: Input<'_, Evac>, cx: &mut Context<'_, Evac>) {
         match input {
             Input::Event(Ev::Start) => {
                 cx.join(BLUE);

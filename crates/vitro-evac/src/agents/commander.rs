@@ -8,6 +8,8 @@ use super::hunt::SILENT;
 use super::{SENSE, tell};
 use crate::act::{Dismount, Drive, Unload};
 use crate::brief::Brief;
+use crate::radio::Evac;
+use crate::radio::{Order, Radio};
 use crate::sense::Myself;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
@@ -22,8 +24,7 @@ use vitro_tactical::actuate::MoveError;
 use vitro_tactical::arena::Ev;
 use vitro_tactical::belief::Beacon;
 use vitro_tactical::condition::Status;
-use vitro_tactical::model::{Controller, Intention, Tactical};
-use vitro_tactical::radio::{Order, Radio};
+use vitro_tactical::model::{Controller, Intention};
 
 mod hunters;
 use super::tender::Tender;
@@ -145,13 +146,13 @@ impl Commander {
         }
     }
 
-    fn enter(&mut self, phase: Phase, cx: &mut Context<'_, Tactical>) {
+    fn enter(&mut self, phase: Phase, cx: &mut Context<'_, Evac>) {
         self.phase = phase;
         self.log.push((cx.now(), phase));
         self.waiting_since = cx.now();
     }
 
-    fn drive_leg(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn drive_leg(&mut self, cx: &mut Context<'_, Evac>) {
         if let Some(&goal) = self.legs().get(self.leg) {
             self.refused = cx.act(&self.drive, goal).err();
         }
@@ -159,7 +160,7 @@ impl Commander {
 
     /// The truck gave up its trip to `goal`: tries the leg again after a pause, up to
     /// [`LEG_TRIES`] times; then it stays, and its intention says why.
-    fn on_stalled(&mut self, goal: NodeId, cx: &mut Context<'_, Tactical>) {
+    fn on_stalled(&mut self, goal: NodeId, cx: &mut Context<'_, Evac>) {
         self.stalls += 1;
         self.leg_stalls += 1;
         if self.leg_stalls < LEG_TRIES {
@@ -179,7 +180,7 @@ impl Commander {
             .collect()
     }
 
-    fn on_arrived(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn on_arrived(&mut self, cx: &mut Context<'_, Evac>) {
         if self.hunt_pending {
             self.release_hunters(cx);
         }
@@ -234,7 +235,7 @@ impl Commander {
 
     /// Orders the squad where it goes: the leader to its goal (with the roster the truck
     /// counts on), the others to follow the leader; waits for the leader's answer.
-    fn order_squad(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn order_squad(&mut self, cx: &mut Context<'_, Evac>) {
         let Some(s) = &self.squad else {
             return;
         };
@@ -256,7 +257,7 @@ impl Commander {
     /// Keeps the squad led by someone on his feet and not hunting: drops the others, and
     /// promotes the last trooper that follows when the leader is gone (ordered at once);
     /// gives the squad up (everybody back on board) when no trooper is left to lead it.
-    fn reform(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn reform(&mut self, cx: &mut Context<'_, Evac>) {
         let Some(s) = &mut self.squad else {
             return;
         };
@@ -276,7 +277,7 @@ impl Commander {
     }
 
     /// A team member was reported down.
-    fn casualty(&mut self, id: EntityId, cx: &mut Context<'_, Tactical>) {
+    fn casualty(&mut self, id: EntityId, cx: &mut Context<'_, Evac>) {
         if !self.fallen.insert(id) {
             return;
         }
@@ -292,7 +293,7 @@ impl Commander {
 
     /// The pickup time is over: the squad brings the VIP back to the truck (everybody
     /// boards at once if there is no squad any more).
-    fn escort_back(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn escort_back(&mut self, cx: &mut Context<'_, Evac>) {
         let to = self.truck_point(cx);
         let Some(s) = &mut self.squad else {
             self.board_all(cx);
@@ -304,7 +305,7 @@ impl Commander {
     }
 
     /// The walk-graph point nearest the truck, world (x, y).
-    fn truck_point(&self, cx: &mut Context<'_, Tactical>) -> [f64; 2] {
+    fn truck_point(&self, cx: &mut Context<'_, Evac>) -> [f64; 2] {
         let at = cx
             .sense(&Myself)
             .and_then(|(_, p)| p)
@@ -317,7 +318,7 @@ impl Commander {
         [p[0], p[1]]
     }
 
-    fn board_all(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn board_all(&mut self, cx: &mut Context<'_, Evac>) {
         self.squad = None;
         self.waiting.clear();
         self.enter(Phase::Boarding, cx);
@@ -331,14 +332,14 @@ impl Commander {
         }
     }
 
-    fn leave(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn leave(&mut self, cx: &mut Context<'_, Evac>) {
         self.waiting.clear();
         self.enter(Phase::Back, cx);
         self.leg = 0;
         self.drive_leg(cx);
     }
 
-    fn on_signal(&mut self, from: EntityId, what: &str, arg: &str, cx: &mut Context<'_, Tactical>) {
+    fn on_signal(&mut self, from: EntityId, what: &str, arg: &str, cx: &mut Context<'_, Evac>) {
         match what {
             "captured" => self.hunt_done = true,
             super::hunt::SEARCH => {
@@ -381,7 +382,7 @@ impl Commander {
     }
 
     /// Moves on once nobody is waited for any more: the VIP gets ready, or the truck leaves.
-    fn all_answered(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn all_answered(&mut self, cx: &mut Context<'_, Evac>) {
         if !self.waiting.is_empty() {
             return;
         }
@@ -405,7 +406,7 @@ impl Commander {
     }
 
     /// Orders again whoever has not answered (orders or answers may be lost).
-    fn repeat_orders(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn repeat_orders(&mut self, cx: &mut Context<'_, Evac>) {
         if self.squad.is_some() {
             self.order_squad(cx);
             return;
@@ -429,7 +430,7 @@ impl Commander {
             .unwrap_or(self.brief.places[1])
     }
 
-    fn on_sense(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn on_sense(&mut self, cx: &mut Context<'_, Evac>) {
         let alive = cx
             .sense(&Myself)
             .is_some_and(|(c, _)| c.status == Status::Active);
@@ -462,8 +463,8 @@ impl Commander {
     }
 }
 
-impl Controller for Commander {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+impl Controller<Evac> for Commander {
+    fn handle(&mut self, input: Input<'_, Evac>, cx: &mut Context<'_, Evac>) {
         match self.tender.cnet().handle(input, cx) {
             Handled::Event(e) => return self.on_cnet(e, cx),
             Handled::Consumed => return,

@@ -25,6 +25,8 @@
 //! information set), which the target, knowing only its own camera, is not.
 
 use crate::brief::{BLUE, Brief};
+use crate::radio::Evac;
+use crate::radio::Radio;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::comm::{Address, Outgoing};
@@ -43,8 +45,6 @@ use vitro_algo::pursuit::{
 use vitro_site::map::Mode;
 use vitro_tactical::arena::OwnPose;
 use vitro_tactical::belief::Whereabouts;
-use vitro_tactical::model::Tactical;
-use vitro_tactical::radio::Radio;
 use vitro_tactical::scenario::{PursuitAlgorithm, PursuitLead, PursuitSpec};
 
 /// `Radio::Signal(SEARCH, "x y")`: the hunt lead's most likely place of the target (world
@@ -187,12 +187,12 @@ pub struct TurnClock {
 
 impl TurnClock {
     /// A turn begins now.
-    pub fn begin(&mut self, cx: &Context<'_, Tactical>) {
+    pub fn begin(&mut self, cx: &Context<'_, Evac>) {
         self.pending = None;
         self.began = cx.now();
     }
     /// The next turn in `delay` (timer `key`), replacing the one pending.
-    pub fn next_in(&mut self, delay: SimDuration, key: u64, cx: &mut Context<'_, Tactical>) {
+    pub fn next_in(&mut self, delay: SimDuration, key: u64, cx: &mut Context<'_, Evac>) {
         if let Some(id) = self.pending.take() {
             cx.cancel(id);
         }
@@ -200,7 +200,7 @@ impl TurnClock {
     }
     /// The next turn after the move just ended: [`MIN_TURN`] after this one began at the
     /// earliest.
-    pub fn after_move(&mut self, key: u64, cx: &mut Context<'_, Tactical>) {
+    pub fn after_move(&mut self, key: u64, cx: &mut Context<'_, Evac>) {
         let wait = MIN_TURN.saturating_sub(cx.now().saturating_since(self.began));
         self.next_in(wait, key, cx);
     }
@@ -272,7 +272,7 @@ impl Hunt {
     /// One turn: update the belief, run the search, keep the orders. The team is where
     /// `known` (the lead's position reports and sightings) puts them; a pursuer not heard
     /// from lately is left out of the turn.
-    pub fn turn(&mut self, cx: &mut Context<'_, Tactical>, known: &Whereabouts) -> HuntStep {
+    pub fn turn(&mut self, cx: &mut Context<'_, Evac>, known: &Whereabouts) -> HuntStep {
         let Some(board) = self.brief.board.clone() else {
             return HuntStep::Over;
         };

@@ -14,14 +14,14 @@ pub mod trooper;
 pub mod ugv;
 
 use super::brief::{BLUE, Brief};
+use crate::radio::Evac;
+use crate::radio::Radio;
 use serde::{Deserialize, Serialize};
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::{EntityId, EntityMap};
 use vitro::sim::Context;
 use vitro::time::{SimDuration, SimTime};
 use vitro_tactical::belief::{Beacon, Whereabouts};
-use vitro_tactical::model::Tactical;
-use vitro_tactical::radio::Radio;
 use vitro_tactical::sensor::Sighting;
 use vitro_tactical::world::Side;
 
@@ -41,7 +41,7 @@ pub struct Reporter {
 
 impl Reporter {
     /// Sends a [`Radio::Contact`] for every sighting taken for hostile not reported lately.
-    pub fn report(&mut self, sightings: &[Sighting], cx: &mut Context<'_, Tactical>) {
+    pub fn report(&mut self, sightings: &[Sighting], cx: &mut Context<'_, Evac>) {
         let now = cx.now();
         for s in sightings.iter().filter(|s| s.seen_as == Side::Red) {
             let fresh = self
@@ -65,7 +65,7 @@ impl Reporter {
 }
 
 /// Sends `body` to one agent.
-pub(crate) fn tell(cx: &mut Context<'_, Tactical>, to: EntityId, body: Radio) {
+pub(crate) fn tell(cx: &mut Context<'_, Evac>, to: EntityId, body: Radio) {
     cx.send(Outgoing::new(Address::Agent(to), body));
 }
 

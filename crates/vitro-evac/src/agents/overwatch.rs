@@ -4,8 +4,8 @@
 //! round) finds the target and its contact reports keep the pursuers' belief narrow.
 
 use super::hunt::SEARCH;
+use crate::radio::Radio;
 use serde::{Deserialize, Serialize};
-use vitro_tactical::radio::Radio;
 
 /// Radius of the orbit flown around the search point, metres.
 const ORBIT_M: f64 = 120.0;

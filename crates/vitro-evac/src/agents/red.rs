@@ -10,6 +10,7 @@ use super::patrol::attack::{Attacker, PatrolWatch};
 use super::trooper::{DECIDED, TURN};
 use crate::act::{Fire, SetStatus, Walk};
 use crate::brief::Brief;
+use crate::radio::Evac;
 use crate::sense::{Myself, Vision, VisionOf, Watched};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -21,7 +22,7 @@ use vitro_algo::pursuit::{Belief, EvaderView};
 use vitro_site::map::Mode;
 use vitro_tactical::arena::Ev;
 use vitro_tactical::condition::Status;
-use vitro_tactical::model::{Controller, Intention, Tactical};
+use vitro_tactical::model::{Controller, Intention};
 use vitro_tactical::world::Side;
 
 /// A red adversary hiding at a node.
@@ -65,7 +66,7 @@ impl Adversary {
 
     /// The attacker's two looks per patrol step (Skeldars step at 1 s + k · `step_s`): the
     /// truck just after a step, the Skeldars just before the next. Stops once it attacked.
-    fn on_patrol(&mut self, key: u64, cx: &mut Context<'_, Tactical>) {
+    fn on_patrol(&mut self, key: u64, cx: &mut Context<'_, Evac>) {
         let active = cx
             .sense(&Myself)
             .is_some_and(|(c, _)| c.status == Status::Active);
@@ -91,7 +92,7 @@ impl Adversary {
         cx.set_timer(SimDuration::from_secs_f64(attacker.game.step_s), key);
     }
 
-    fn on_sense(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn on_sense(&mut self, cx: &mut Context<'_, Evac>) {
         let active = cx
             .sense(&Myself)
             .is_some_and(|(c, _)| c.status == Status::Active);
@@ -145,8 +146,8 @@ impl Adversary {
     }
 }
 
-impl Controller for Adversary {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+impl Controller<Evac> for Adversary {
+    fn handle(&mut self, input: Input<'_, Evac>, cx: &mut Context<'_, Evac>) {
         match input {
             Input::Event(Ev::Start) => {
                 cx.set_timer(SimDuration::from_secs(1), SENSE);
@@ -221,7 +222,7 @@ impl Hvt {
         }
     }
 
-    fn on_turn(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn on_turn(&mut self, cx: &mut Context<'_, Evac>) {
         let Some((me, Some(pose))) = cx.sense(&Myself) else {
             return;
         };
@@ -268,7 +269,7 @@ impl Hvt {
         cx.set_timer(SimDuration::from_secs_f64(us * 1e-6), DECIDED);
     }
 
-    fn on_decided(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn on_decided(&mut self, cx: &mut Context<'_, Evac>) {
         if let Some(node) = self.next
             && !self.under_way
         {
@@ -280,7 +281,7 @@ impl Hvt {
         self.clock.next_in(fallback, TURN, cx);
     }
 
-    fn on_arrived(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn on_arrived(&mut self, cx: &mut Context<'_, Evac>) {
         self.under_way = false;
         if self.turns > 0 {
             self.clock.after_move(TURN, cx);
@@ -288,8 +289,8 @@ impl Hvt {
     }
 }
 
-impl Controller for Hvt {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+impl Controller<Evac> for Hvt {
+    fn handle(&mut self, input: Input<'_, Evac>, cx: &mut Context<'_, Evac>) {
         match input {
             Input::Event(Ev::Start) => {
                 let at = SimDuration::from_secs_f64(self.brief.mission.hvt_appear_s);

@@ -37,6 +37,8 @@
 //! body passed, which free steering leaves behind.
 
 use crate::brief::Brief;
+use crate::radio::Evac;
+use crate::radio::Radio;
 use crate::sense::Fallen;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -46,8 +48,7 @@ use vitro::protocol::TimerTag;
 use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
 use vitro_tactical::behaviour::formation::{Leader, Member};
-use vitro_tactical::model::{Controller, Intention, Tactical};
-use vitro_tactical::radio::Radio;
+use vitro_tactical::model::{Controller, Intention};
 
 /// The formation controllers' timer tags (leader "FL", member "FM").
 const TICKS: [TimerTag; 2] = [TimerTag(0x464c), TimerTag(0x464d)];
@@ -123,7 +124,7 @@ impl Squad {
     }
 
     /// Hands one input to the embedded controller.
-    pub fn forward(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+    pub fn forward(&mut self, input: Input<'_, Evac>, cx: &mut Context<'_, Evac>) {
         match &mut self.part {
             Part::Lead { leader, .. } => leader.handle(input, cx),
             Part::Follow(member) => member.handle(input, cx),
@@ -134,7 +135,7 @@ impl Squad {
     /// member; `join`, `leave` and the contacts its members report to a leader (what the
     /// squad sees itself: reports from farther away, e.g. from the drones, are not a
     /// contact for the squad).
-    pub fn hear(&mut self, env: &Envelope<Radio>, cx: &mut Context<'_, Tactical>) {
+    pub fn hear(&mut self, env: &Envelope<Radio>, cx: &mut Context<'_, Evac>) {
         let relevant = match (&self.part, &env.body) {
             (Part::Follow(_), Radio::Signal(s, _)) => s == "formation",
             (Part::Lead { .. }, Radio::Signal(s, _)) => s == "join" || s == "leave",
@@ -153,7 +154,7 @@ impl Squad {
     /// A leader drops the members that are not in `roster` (the truck's `Signal("squad",
     /// "3 5")`: the members it counts on, e.g. not those sent after the high-value target,
     /// whose own `leave` may have been lost).
-    pub fn keep_only(&mut self, roster: &str, cx: &mut Context<'_, Tactical>) {
+    pub fn keep_only(&mut self, roster: &str, cx: &mut Context<'_, Evac>) {
         let Part::Lead { leader, .. } = &mut self.part else {
             return;
         };
@@ -173,7 +174,7 @@ impl Squad {
     /// Looks at the squad mates: a leader drops each member it sees down from its squad,
     /// a member watches its leader; either tells `truck` who is down (each at most every
     /// 30 s).
-    pub fn watch(&mut self, brief: &Brief, cx: &mut Context<'_, Tactical>) {
+    pub fn watch(&mut self, brief: &Brief, cx: &mut Context<'_, Evac>) {
         let range = brief.formation.params.sight_range;
         let mates: Vec<EntityId> = match &self.part {
             Part::Lead { leader, .. } => leader.roster().to_vec(),
@@ -262,7 +263,7 @@ impl std::fmt::Debug for Squad {
 }
 
 /// A message from the trooper to itself, handed straight to its controller (not sent).
-pub(crate) fn note(cx: &Context<'_, Tactical>, body: Radio) -> Envelope<Radio> {
+pub(crate) fn note(cx: &Context<'_, Evac>, body: Radio) -> Envelope<Radio> {
     Envelope {
         from: cx.me(),
         to: Address::Agent(cx.me()),

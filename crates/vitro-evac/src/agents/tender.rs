@@ -16,12 +16,12 @@
 //! hunter alone (a renewal call): it keeps its place if it bids, else it is lost. A call
 //! nobody answered is repeated every [`RECALL_S`] while slots are open.
 
+use crate::radio::Radio;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use vitro::entity::EntityId;
 use vitro::protocol::{CnetConfig, ContractNet, TimerTag};
 use vitro::time::{SimDuration, SimTime};
-use vitro_tactical::radio::Radio;
 
 /// The task name of a hunt slot's call.
 pub const HUNT_TASK: &str = "hunt";

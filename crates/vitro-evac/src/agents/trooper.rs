@@ -9,6 +9,8 @@ use super::tender::{CNET, cnet_config};
 use super::{Reporter, SENSE, last_known, note_friends, tell};
 use crate::act::{ActError, Board, Capture, Walk};
 use crate::brief::{BLUE, Brief};
+use crate::radio::Evac;
+use crate::radio::{Order, Radio};
 use crate::sense::{Myself, Vision};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -26,8 +28,7 @@ use vitro_tactical::belief::{Beacon, Whereabouts};
 use vitro_tactical::condition::Status;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::troop::StepCmd;
-use vitro_tactical::model::{Controller, Intention, Tactical};
-use vitro_tactical::radio::{Order, Radio};
+use vitro_tactical::model::{Controller, Intention};
 
 mod bidding;
 mod hunting;
@@ -164,7 +165,7 @@ impl Trooper {
     /// discrete level ends at its node). With `announce`, a member tells its leader it leaves
     /// and a leader dismisses its members (they stand still until the truck names another
     /// leader), so that nobody follows it away.
-    fn leave_squad(&mut self, announce: bool, cx: &mut Context<'_, Tactical>) {
+    fn leave_squad(&mut self, announce: bool, cx: &mut Context<'_, Evac>) {
         let Some(squad) = self.squad.take() else {
             return;
         };
@@ -194,7 +195,7 @@ impl Trooper {
     /// Leads the squad to `to` (the truck's `GoTo`): becomes the leader if it was not (a
     /// member promoted), and hands the order to its formation leader unless it is the one
     /// under way.
-    fn lead(&mut self, env: &Envelope<Radio>, to: [f64; 2], cx: &mut Context<'_, Tactical>) {
+    fn lead(&mut self, env: &Envelope<Radio>, to: [f64; 2], cx: &mut Context<'_, Evac>) {
         let leading = matches!(&self.squad, Some(s) if matches!(s.part, Part::Lead { .. }));
         if !leading {
             self.leave_squad(false, cx);
@@ -225,7 +226,7 @@ impl Trooper {
 
     /// Follows `leader` in formation (the truck's `Follow` of a person): becomes its member
     /// if it was not, and tells it `join` (every time, in case a `join` was lost).
-    fn follow(&mut self, env: &Envelope<Radio>, leader: EntityId, cx: &mut Context<'_, Tactical>) {
+    fn follow(&mut self, env: &Envelope<Radio>, leader: EntityId, cx: &mut Context<'_, Evac>) {
         if leader == cx.me() {
             return;
         }
@@ -243,7 +244,7 @@ impl Trooper {
     }
 
     /// Walks to `node` now, or as soon as the current walk ends.
-    fn walk_to(&mut self, node: NodeId, cx: &mut Context<'_, Tactical>) {
+    fn walk_to(&mut self, node: NodeId, cx: &mut Context<'_, Evac>) {
         self.goal = Some(node);
         if !self.under_way {
             self.under_way = cx.act(&self.walk, node).is_ok();
@@ -255,7 +256,7 @@ impl Trooper {
         env: &Envelope<Radio>,
         order: &Order,
         on_foot: bool,
-        cx: &mut Context<'_, Tactical>,
+        cx: &mut Context<'_, Evac>,
     ) {
         let from = env.from;
         // Any order from the hunt lead shows it is up (repeats included).
@@ -348,7 +349,7 @@ impl Trooper {
 
     /// Boards the vehicle it was told to follow if it can; else walks to it, unless it is
     /// already walking or its body is still settling (it tries again at its next look).
-    fn try_board(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn try_board(&mut self, cx: &mut Context<'_, Evac>) {
         let Task::Board(vehicle) = self.task else {
             return;
         };
@@ -399,7 +400,7 @@ impl Trooper {
         }
     }
 
-    fn on_arrived(&mut self, node: NodeId, cx: &mut Context<'_, Tactical>) {
+    fn on_arrived(&mut self, node: NodeId, cx: &mut Context<'_, Evac>) {
         self.under_way = false;
         if let Some(goal) = self.goal.filter(|&g| g != node) {
             self.walk_to(goal, cx);
@@ -426,7 +427,7 @@ impl Trooper {
         }
     }
 
-    fn on_message(&mut self, env: &Envelope<Radio>, cx: &mut Context<'_, Tactical>) {
+    fn on_message(&mut self, env: &Envelope<Radio>, cx: &mut Context<'_, Evac>) {
         self.known.hear(env);
         let status = status(cx);
         let on_foot = status == Some(Status::Active);
@@ -470,7 +471,7 @@ impl Trooper {
         }
     }
 
-    fn on_sense(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn on_sense(&mut self, cx: &mut Context<'_, Evac>) {
         let Some((me, _)) = cx.sense(&Myself) else {
             return;
         };
@@ -513,8 +514,8 @@ impl Trooper {
     }
 }
 
-impl Controller for Trooper {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+impl Controller<Evac> for Trooper {
+    fn handle(&mut self, input: Input<'_, Evac>, cx: &mut Context<'_, Evac>) {
         self.me = Some(cx.me());
         match self.cnet.handle(input, cx) {
             Handled::Event(e) => return self.on_cnet(e, cx),
@@ -590,7 +591,7 @@ impl Controller for Trooper {
 }
 
 /// The acting entity's own status, if it has a condition.
-fn status(cx: &mut Context<'_, Tactical>) -> Option<Status> {
+fn status(cx: &mut Context<'_, Evac>) -> Option<Status> {
     cx.sense(&Myself).map(|(c, _)| c.status)
 }
 

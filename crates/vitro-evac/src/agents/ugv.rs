@@ -5,6 +5,7 @@ use super::air::progress;
 use super::{Reporter, SENSE, last_known, note_friends};
 use crate::act::Drive;
 use crate::brief::{BLUE, Brief};
+use crate::radio::Evac;
 use crate::sense::VisionOf;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -14,7 +15,7 @@ use vitro::time::SimDuration;
 use vitro_site::map::Mode;
 use vitro_tactical::arena::Ev;
 use vitro_tactical::belief::{Beacon, Whereabouts};
-use vitro_tactical::model::{Controller, Intention, Tactical};
+use vitro_tactical::model::{Controller, Intention};
 
 /// Timer key of the next goal.
 const PLAN: u64 = 40;
@@ -43,7 +44,7 @@ impl Ugv {
             goal: None,
         }
     }
-    fn next(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn next(&mut self, cx: &mut Context<'_, Evac>) {
         let Some(truck) = last_known(&self.known, self.brief.truck, cx.now()) else {
             // No report of the truck yet: it waits and asks again.
             cx.set_timer(SimDuration::from_secs(10), PLAN);
@@ -61,8 +62,8 @@ impl Ugv {
     }
 }
 
-impl Controller for Ugv {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+impl Controller<Evac> for Ugv {
+    fn handle(&mut self, input: Input<'_, Evac>, cx: &mut Context<'_, Evac>) {
         match input {
             Input::Event(Ev::Start) => {
                 cx.join(BLUE);

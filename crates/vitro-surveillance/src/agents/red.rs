@@ -5,7 +5,7 @@
 
 use crate::act::{Drive, Walk};
 use crate::brief::{Gait, RedBrief};
-use crate::model::{Field, Unit};
+use crate::model::Field;
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -14,6 +14,7 @@ use vitro::sim::{Context, Input};
 use vitro::time::SimDuration;
 use vitro_site::map::Mode;
 use vitro_tactical::arena::{Ev, OwnPose};
+use vitro_tactical::model::Controller;
 use vitro_tactical::model::Intention;
 
 /// Timer key: the pause is over.
@@ -98,7 +99,7 @@ impl Prowler {
     }
 }
 
-impl Unit for Prowler {
+impl Controller<Field> for Prowler {
     fn handle(&mut self, input: Input<'_, Field>, cx: &mut Context<'_, Field>) {
         match input {
             Input::Event(Ev::Start) | Input::Timer(GO) => self.set_off(cx),

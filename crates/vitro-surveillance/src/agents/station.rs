@@ -12,7 +12,7 @@
 //! - an area tasked during the run is cut into sectors and called.
 
 use crate::brief::StationBrief;
-use crate::model::{Field, Unit};
+use crate::model::Field;
 use crate::net::{Net, TEAM};
 use crate::sector::Rect;
 use serde::{Deserialize, Serialize};
@@ -24,6 +24,7 @@ use vitro::protocol::{CallFailure, CnetEvent, ContractNet, Handled, Participants
 use vitro::sim::{Context, Input};
 use vitro::time::SimTime;
 use vitro_tactical::arena::Ev;
+use vitro_tactical::model::Controller;
 use vitro_tactical::model::Intention;
 
 /// Timer key: look for silent UAVs.
@@ -332,7 +333,7 @@ fn name(cx: &Context<'_, Field>, id: EntityId) -> String {
         .map_or_else(|| format!("#{}", id.0), str::to_owned)
 }
 
-impl Unit for Station {
+impl Controller<Field> for Station {
     fn handle(&mut self, input: Input<'_, Field>, cx: &mut Context<'_, Field>) {
         match self.cnet.handle(input, cx) {
             Handled::Event(e) => return self.on_cnet(e, cx),

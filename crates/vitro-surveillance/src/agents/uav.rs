@@ -16,7 +16,7 @@
 use super::plan::{cost, search_route, watch};
 use crate::act::Pilot;
 use crate::brief::{Airframe, TeamBrief};
-use crate::model::{Field, Unit};
+use crate::model::Field;
 use crate::net::{Net, TEAM};
 use crate::sector::{Rect, centre, dist};
 use serde::{Deserialize, Serialize};
@@ -29,6 +29,7 @@ use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
 use vitro_tactical::arena::{Ev, OwnPose};
 use vitro_tactical::entity::air::FlightCommand;
+use vitro_tactical::model::Controller;
 use vitro_tactical::model::Intention;
 use vitro_tactical::sensor::track::{Lock, TrackEvent, Tracker};
 
@@ -452,7 +453,7 @@ impl Uav {
     }
 }
 
-impl Unit for Uav {
+impl Controller<Field> for Uav {
     fn handle(&mut self, input: Input<'_, Field>, cx: &mut Context<'_, Field>) {
         if !self.alive {
             return;

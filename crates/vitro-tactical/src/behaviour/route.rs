@@ -13,6 +13,7 @@ use crate::autopilot::FlyError;
 use crate::belief::Whereabouts;
 use crate::entity::air::FlightCommand;
 use crate::model::{Controller, Tactical};
+use crate::radio::{Message, Reports};
 use crate::sensor::FriendFoeVision;
 use crate::sensor::track::Look;
 use serde::{Deserialize, Serialize};
@@ -67,11 +68,12 @@ impl<A> VisitNodes<A> {
     }
 }
 
-impl<A> Controller for VisitNodes<A>
+impl<M, A> Controller<Tactical<M>> for VisitNodes<A>
 where
+    M: Message,
     A: Actuator<Arena, Ev, Command = NodeId, Error = MoveError> + 'static,
 {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+    fn handle(&mut self, input: Input<'_, Tactical<M>>, cx: &mut Context<'_, Tactical<M>>) {
         match input {
             Input::Event(Ev::Start) => {}
             Input::Event(Ev::Arrived(n)) => self.log.push((cx.now(), *n)),
@@ -202,13 +204,13 @@ impl<P> FlightMission<P>
 where
     P: Actuator<Arena, Ev, Command = FlightCommand, Error = FlyError> + 'static,
 {
-    fn command(&mut self, cmd: FlightCommand, cx: &mut Context<'_, Tactical>) {
+    fn command<M: Message>(&mut self, cmd: FlightCommand, cx: &mut Context<'_, Tactical<M>>) {
         if let Err(e) = cx.act(&self.pilot, cmd) {
             self.error = Some(e);
         }
     }
 
-    fn begin(&mut self, i: usize, cx: &mut Context<'_, Tactical>) {
+    fn begin<M: Message>(&mut self, i: usize, cx: &mut Context<'_, Tactical<M>>) {
         if i > 0 && i <= self.legs.len() && self.legs_done.len() < i {
             self.legs_done.push(cx.now());
         }
@@ -257,7 +259,11 @@ where
 
     /// Where the leg's target is believed to be now: one look of the camera first, then the
     /// fresh fix dead-reckoned, else the last place it was seen or reported at.
-    fn locate(&mut self, target: EntityId, cx: &mut Context<'_, Tactical>) -> Option<[f64; 3]> {
+    fn locate<M: Message>(
+        &mut self,
+        target: EntityId,
+        cx: &mut Context<'_, Tactical<M>>,
+    ) -> Option<[f64; 3]> {
         let now = cx.now();
         for s in cx.sense(&Look(self.camera)) {
             if s.id == target {
@@ -273,7 +279,7 @@ where
     /// now: the next point and the one after it (so the autopilot carries its speed through
     /// the first; the leg aims again as soon as the first is reached). False if the target
     /// has not been seen or reported yet (nothing is commanded).
-    fn aim(&mut self, cx: &mut Context<'_, Tactical>) -> bool {
+    fn aim<M: Message>(&mut self, cx: &mut Context<'_, Tactical<M>>) -> bool {
         let Some(leg) = self.legs.get(self.leg).cloned() else {
             return false;
         };
@@ -339,11 +345,12 @@ where
     }
 }
 
-impl<P> Controller for FlightMission<P>
+impl<M, P> Controller<Tactical<M>> for FlightMission<P>
 where
+    M: Reports,
     P: Actuator<Arena, Ev, Command = FlightCommand, Error = FlyError> + 'static,
 {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+    fn handle(&mut self, input: Input<'_, Tactical<M>>, cx: &mut Context<'_, Tactical<M>>) {
         match input {
             Input::Event(Ev::Start) => self.begin(0, cx),
             Input::Message(env) => {

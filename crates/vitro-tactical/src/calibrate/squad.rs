@@ -27,7 +27,7 @@ use crate::check::{CheckError, Setup};
 use crate::entity::Level;
 use crate::entity::discrete::NodeKind;
 use crate::model::Tactical;
-use crate::radio::{Order, Radio};
+use crate::radio::{Basic, Command, Contact, Message, Signal};
 use crate::types::TroopKind;
 use crate::world::Side;
 use std::sync::Arc;
@@ -101,7 +101,7 @@ pub fn walk(setup: &Setup, w: &Walk, level: Level) -> Result<Option<f64>, CheckE
     let mut plan = vec![(
         SimTime::from_secs_f64(ORDER_S),
         lid,
-        Radio::Order(Order::GoTo(goal)),
+        Basic::from(Command::GoTo(goal)),
     )];
     let limit = 1200.0;
     if w.contact {
@@ -116,11 +116,11 @@ pub fn walk(setup: &Setup, w: &Walk, level: Level) -> Result<Option<f64>, CheckE
             plan.push((
                 SimTime::from_secs_f64(t),
                 lid,
-                Radio::Contact {
+                Basic::from(Contact {
                     target: EntityId(u32::MAX),
                     pos,
                     seen_as: Side::Red,
-                },
+                }),
             ));
             t += CONTACT_EVERY_S;
         }
@@ -143,7 +143,7 @@ pub fn walk(setup: &Setup, w: &Walk, level: Level) -> Result<Option<f64>, CheckE
             .and_then(|sc| {
                 sc.heard
                     .iter()
-                    .find(|(_, _, m)| matches!(m, Radio::Signal(s, _) if s == "arrived"))
+                    .find(|(_, _, m)| m.read::<Signal>().is_some_and(|s| s.is("arrived")))
                     .map(|(t, _, _)| t.as_secs_f64() - ORDER_S)
             })
     };

@@ -4,11 +4,11 @@
 use super::{Commander, Phase};
 use crate::agents::tell;
 use crate::agents::tender::{HUNT_TASK, RECALL_S};
+use crate::radio::Evac;
+use crate::radio::{Order, Radio};
 use vitro::entity::EntityId;
 use vitro::protocol::{CallFailure, CnetEvent, Participants};
 use vitro::sim::Context;
-use vitro_tactical::model::Tactical;
-use vitro_tactical::radio::{Order, Radio};
 
 impl Commander {
     /// Whether pursuers are out after the HVT, not yet captured.
@@ -25,7 +25,7 @@ impl Commander {
 
     /// The HVT was reported at `at`: the first report opens `hvt_pursuers` slots (as many as
     /// troopers are up once the VIP is out) and calls for the first.
-    pub(super) fn start_hunt(&mut self, at: [f64; 3], cx: &mut Context<'_, Tactical>) {
+    pub(super) fn start_hunt(&mut self, at: [f64; 3], cx: &mut Context<'_, Evac>) {
         self.tender.target_at = Some([at[0], at[1]]);
         let k = self.brief.mission.hvt_pursuers;
         if self.hunt_called || k == 0 || self.hunt_done {
@@ -41,14 +41,14 @@ impl Commander {
     }
 
     /// Every trooper still up joins the hunt (the VIP is out): one more slot for each.
-    pub(super) fn all_join(&mut self, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn all_join(&mut self, cx: &mut Context<'_, Evac>) {
         self.tender.open = self.bidders().len() as u32;
         self.call_next(cx);
     }
 
     /// Calls for proposals for the next open slot, unless a call is out, no slot is open,
     /// the hunt is over or nobody is left to call.
-    pub(super) fn call_next(&mut self, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn call_next(&mut self, cx: &mut Context<'_, Evac>) {
         let t = &self.tender;
         if t.call.is_some() || t.open == 0 || self.hunt_done {
             return;
@@ -74,7 +74,7 @@ impl Commander {
 
     /// Calls again, at its next look, a slot whose last call found nobody (after
     /// [`RECALL_S`]).
-    pub(super) fn tender_tick(&mut self, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn tender_tick(&mut self, cx: &mut Context<'_, Evac>) {
         let since = cx.now().saturating_since(self.tender.called_at);
         if self.tender.call.is_none() && since.as_secs_f64() >= RECALL_S {
             self.call_next(cx);
@@ -93,7 +93,7 @@ impl Commander {
     }
 
     /// The contract net's events: awards, failures (reallocations), reports.
-    pub(super) fn on_cnet(&mut self, event: CnetEvent<'_, Radio>, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn on_cnet(&mut self, event: CnetEvent<'_, Radio>, cx: &mut Context<'_, Evac>) {
         match event {
             CnetEvent::Awarded {
                 conversation,
@@ -170,7 +170,7 @@ impl Commander {
     }
 
     /// Hunter `id` is lost (down, silent): it leaves the roster and its slot is called again.
-    pub(super) fn lose_hunter(&mut self, id: EntityId, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn lose_hunter(&mut self, id: EntityId, cx: &mut Context<'_, Evac>) {
         if !self.hunters.contains(&id) {
             return;
         }
@@ -185,7 +185,7 @@ impl Commander {
 
     /// Takes `id` off the roster: it is told the new roster (without it: it leaves the
     /// hunt), and so are the others.
-    fn drop_hunter(&mut self, id: EntityId, cx: &mut Context<'_, Tactical>) {
+    fn drop_hunter(&mut self, id: EntityId, cx: &mut Context<'_, Evac>) {
         if !self.hunters.contains(&id) {
             return;
         }
@@ -201,7 +201,7 @@ impl Commander {
     }
 
     /// `id` won a slot: it joins the pursuers (let out at the next stop if the truck drives).
-    fn add_hunter(&mut self, id: EntityId, cx: &mut Context<'_, Tactical>) {
+    fn add_hunter(&mut self, id: EntityId, cx: &mut Context<'_, Evac>) {
         if self.hunters.contains(&id) || self.fallen.contains(&id) {
             return;
         }
@@ -219,7 +219,7 @@ impl Commander {
     }
 
     /// Lets the pursuers out (if aboard) and sends them after the target.
-    pub(super) fn release_hunters(&mut self, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn release_hunters(&mut self, cx: &mut Context<'_, Evac>) {
         self.hunt_pending = false;
         let out: Vec<_> = (self.hunters.iter())
             .map(|&id| (id, self.brief.troop_kind(id)))
@@ -229,7 +229,7 @@ impl Commander {
     }
 
     /// Sends the pursuit order to every pursuer.
-    pub(super) fn order_hunt(&mut self, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn order_hunt(&mut self, cx: &mut Context<'_, Evac>) {
         let Some(target) = self.brief.hvt else { return };
         self.hunt_ordered_at = cx.now();
         for &id in &self.hunters {

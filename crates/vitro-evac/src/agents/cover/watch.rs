@@ -2,10 +2,10 @@
 //! team, and the reports of its looks (see the [parent](super) module).
 
 use super::{AHEAD, CoverStep};
+use crate::radio::Radio;
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 use vitro::entity::EntityId;
-use vitro_tactical::radio::Radio;
 
 /// The signal name of a look report and of a recall.
 pub const WATCH: &str = "watch";

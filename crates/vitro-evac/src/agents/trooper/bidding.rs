@@ -12,20 +12,20 @@
 use super::{Task, Trooper};
 use crate::agents::last_known;
 use crate::agents::tender::HUNT_TASK;
+use crate::radio::Evac;
+use crate::radio::Radio;
 use crate::sense::Myself;
 use vitro::entity::EntityId;
 use vitro::protocol::CnetEvent;
 use vitro::sim::Context;
 use vitro_tactical::condition::Status;
-use vitro_tactical::model::Tactical;
-use vitro_tactical::radio::Radio;
 
 /// What leading a squad of others adds to a hunt bid, metres.
 pub const LEAD_COST_M: f64 = 300.0;
 
 impl Trooper {
     /// The contract net's events of a bidder.
-    pub(super) fn on_cnet(&mut self, event: CnetEvent<'_, Radio>, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn on_cnet(&mut self, event: CnetEvent<'_, Radio>, cx: &mut Context<'_, Evac>) {
         let status = cx.sense(&Myself).map(|(c, _)| c.status);
         if matches!(status, None | Some(Status::Down | Status::Captured)) {
             return;
@@ -63,7 +63,7 @@ impl Trooper {
 
     /// What it bids for a hunt slot with the target at `at`, or nothing if it cannot take
     /// one (see the module's doc).
-    fn hunt_cost(&self, at: [f64; 2], cx: &mut Context<'_, Tactical>) -> Option<f64> {
+    fn hunt_cost(&self, at: [f64; 2], cx: &mut Context<'_, Evac>) -> Option<f64> {
         if self.cnet.pending_proposals().next().is_some() {
             return None;
         }
@@ -92,7 +92,7 @@ impl Trooper {
     }
 
     /// Reports its hunt contract done (the target captured), if it holds one.
-    pub(super) fn report_capture(&mut self, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn report_capture(&mut self, cx: &mut Context<'_, Evac>) {
         if let Some(reply) = self.contract.take() {
             let body = Radio::Signal("captured".into(), String::new());
             self.cnet.report_done(cx, reply, body);

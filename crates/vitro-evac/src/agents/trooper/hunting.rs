@@ -4,20 +4,20 @@
 use super::{DECIDED, TURN, Task, Trooper};
 use crate::agents::hunt::{HuntStep, LEAD_SILENT_TURNS, SILENT};
 use crate::agents::tell;
+use crate::radio::Evac;
+use crate::radio::{Order, Radio};
 use crate::sense::Myself;
 use vitro::entity::EntityId;
 use vitro::sim::Context;
 use vitro::time::SimDuration;
 use vitro_site::map::Mode;
 use vitro_tactical::condition::Status;
-use vitro_tactical::model::Tactical;
-use vitro_tactical::radio::{Order, Radio};
 
 impl Trooper {
     /// A pursuer whose hunt lead has sent no move for [`LEAD_SILENT_TURNS`] long turns
     /// tells the truck (at most once per that time): the lead may be down unseen, or out of
     /// radio reach.
-    pub(super) fn check_lead(&mut self, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn check_lead(&mut self, cx: &mut Context<'_, Evac>) {
         let me = cx.me();
         let now = cx.now();
         if !matches!(self.task, Task::Hunt(_)) {
@@ -43,7 +43,7 @@ impl Trooper {
         SimDuration::from_secs_f64(self.brief.sensors.period_s)
     }
 
-    pub(super) fn on_turn(&mut self, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn on_turn(&mut self, cx: &mut Context<'_, Evac>) {
         let alive = cx
             .sense(&Myself)
             .is_some_and(|(c, _)| c.status == Status::Active);
@@ -62,7 +62,7 @@ impl Trooper {
         }
     }
 
-    pub(super) fn on_decided(&mut self, cx: &mut Context<'_, Tactical>) {
+    pub(super) fn on_decided(&mut self, cx: &mut Context<'_, Evac>) {
         let Some(hunt) = self.hunt.as_mut() else {
             return;
         };

@@ -4,6 +4,7 @@
 use super::FormationParams;
 use super::sense::SideClearance;
 use crate::model::Tactical;
+use crate::radio::Message;
 use serde::{Deserialize, Serialize};
 use vitro::sim::Context;
 use vitro_site::geo::{P2, dist};
@@ -74,8 +75,8 @@ pub(crate) fn ahead(me: P2, heading: f64) -> Vec<(P2, f64)> {
 
 /// The ground at `probes`: narrow if two or more are narrow, a street if two or more are
 /// walled in, open if none is, `previous` with a single walled probe of several.
-pub(crate) fn look(
-    cx: &mut Context<'_, Tactical>,
+pub(crate) fn look<M: Message>(
+    cx: &mut Context<'_, Tactical<M>>,
     probes: &[(P2, f64)],
     params: &FormationParams,
     previous: Ground,

@@ -3,6 +3,7 @@
 //! one cycle with the choices drawn from the agent's `"rules"` stream.
 
 use crate::model::Tactical;
+use crate::radio::Message;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vitro::sim::Context;
@@ -39,7 +40,7 @@ pub(crate) fn load(name: &str, source: &str, modules: Signature) -> Result<Inter
 }
 
 /// A seed for one cycle's choices, from the agent's `"rules"` stream.
-pub(crate) fn seed(cx: &mut Context<'_, Tactical>) -> u64 {
+pub(crate) fn seed<M: Message>(cx: &mut Context<'_, Tactical<M>>) -> u64 {
     cx.rng("rules").random()
 }
 

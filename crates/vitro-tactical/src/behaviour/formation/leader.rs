@@ -13,7 +13,7 @@ use crate::belief::{Fix, Whereabouts};
 use crate::entity::route::wrap_angle;
 use crate::entity::{Level, Pose};
 use crate::model::{Controller, Tactical};
-use crate::radio::{Order, Radio};
+use crate::radio::{Command, Contact, Signal, SquadTalk};
 use crate::world::Side;
 use serde::{Deserialize, Serialize};
 use vitro::comm::{Address, Envelope, Outgoing};
@@ -221,7 +221,7 @@ impl Leader {
     }
 
     /// One deliberation cycle; false if the leader has no body (it then stops).
-    fn tick(&mut self, cx: &mut Context<'_, Tactical>) -> bool {
+    fn tick<M: SquadTalk>(&mut self, cx: &mut Context<'_, Tactical<M>>) -> bool {
         let Some(pose) = cx.sense(&OwnPose) else {
             self.st.problem("the leader has no body: it stops".into());
             return false;
@@ -273,48 +273,54 @@ impl Leader {
         let fix = Fix::after(&now_pose, now, self.st.sent.as_ref());
         self.st.sent = Some(fix);
         for &m in &self.st.roster {
-            cx.send(Outgoing::new(Address::Agent(m), Radio::Position(fix)));
+            cx.send(Outgoing::new(Address::Agent(m), M::from(fix)));
         }
         self.cycles += 1;
         true
     }
 
-    fn hear(&mut self, env: &Envelope<Radio>, cx: &mut Context<'_, Tactical>) {
+    fn hear<M: SquadTalk>(&mut self, env: &Envelope<M>, cx: &mut Context<'_, Tactical<M>>) {
         let st = &mut self.st;
         st.known.hear(env);
-        match &env.body {
-            Radio::Order(Order::GoTo(p)) => st.go_to(cx, env.from, *p),
-            Radio::Order(Order::Hold) => {
-                st.held = st.route.take().map(|r| r.follow);
-                st.at_goal_since = None;
-                if let Some(pose) = cx.sense(&OwnPose)
-                    && let Err(e) = st.mover.stop(cx, &pose)
-                {
-                    st.problem(e.to_string());
-                }
-            }
-            Radio::Signal(name, arg) if name == "join" || name == "leave" => {
-                let Some(id) = parse_id(arg) else {
-                    st.problem(format!("{name}: {arg:?} is not an entity number"));
-                    return;
-                };
-                if name == "join" {
-                    if id != cx.me() && !st.roster.contains(&id) {
-                        st.roster.push(id);
-                        st.briefed = false;
+        if let Some(order) = env.body.read::<Command>() {
+            match order {
+                Command::GoTo(p) => st.go_to(cx, env.from, p),
+                Command::Hold => {
+                    st.held = st.route.take().map(|r| r.follow);
+                    st.at_goal_since = None;
+                    if let Some(pose) = cx.sense(&OwnPose)
+                        && let Err(e) = st.mover.stop(cx, &pose)
+                    {
+                        st.problem(e.to_string());
                     }
-                } else if let Some(i) = st.roster.iter().position(|&m| m == id) {
-                    st.roster.remove(i);
-                    st.briefed = false;
-                    dismiss(cx, id);
                 }
+                Command::Follow(_) => {}
             }
-            Radio::Contact {
-                pos,
-                seen_as: Side::Red,
-                ..
-            } => st.contact = Some((cx.now(), [pos[0], pos[1]])),
-            _ => {}
+        } else if let Some(Signal { name, arg }) = env.body.read::<Signal>() {
+            if name != "join" && name != "leave" {
+                return;
+            }
+            let Some(id) = parse_id(&arg) else {
+                st.problem(format!("{name}: {arg:?} is not an entity number"));
+                return;
+            };
+            if name == "join" {
+                if id != cx.me() && !st.roster.contains(&id) {
+                    st.roster.push(id);
+                    st.briefed = false;
+                }
+            } else if let Some(i) = st.roster.iter().position(|&m| m == id) {
+                st.roster.remove(i);
+                st.briefed = false;
+                dismiss(cx, id);
+            }
+        } else if let Some(Contact {
+            pos,
+            seen_as: Side::Red,
+            ..
+        }) = env.body.read::<Contact>()
+        {
+            st.contact = Some((cx.now(), [pos[0], pos[1]]));
         }
     }
 }
@@ -343,7 +349,7 @@ impl State {
     }
 
     /// Own sightings, and the end of a contact that is too old.
-    fn look_out(&mut self, cx: &mut Context<'_, Tactical>, me: P2) {
+    fn look_out<M: SquadTalk>(&mut self, cx: &mut Context<'_, Tactical<M>>, me: P2) {
         let now = cx.now();
         let seen = cx.sense(&Hostiles {
             range: self.params.sight_range,
@@ -370,7 +376,11 @@ impl State {
 
     /// Drops members not heard from for [`LINK_STALE`]; measures every member's distance to
     /// its slot, where its last report puts it; returns their log entries.
-    fn measure(&mut self, cx: &mut Context<'_, Tactical>, pose: &Pose) -> Vec<TrackPoint> {
+    fn measure<M: SquadTalk>(
+        &mut self,
+        cx: &mut Context<'_, Tactical<M>>,
+        pose: &Pose,
+    ) -> Vec<TrackPoint> {
         let now = cx.now();
         let me = xy(pose);
         let mut out = Vec::new();
@@ -448,7 +458,7 @@ impl State {
     }
 
     /// The ground ahead: probes along the route (along the heading without one).
-    fn classify(&self, cx: &mut Context<'_, Tactical>, pose: &Pose) -> Ground {
+    fn classify<M: SquadTalk>(&self, cx: &mut Context<'_, Tactical<M>>, pose: &Pose) -> Ground {
         let me = xy(pose);
         let probes = match &self.route {
             Some(r) if !r.follow.done(pose.level) => {
@@ -460,7 +470,7 @@ impl State {
     }
 
     /// Moves the leader at the pace the program chose (halts without one).
-    fn drive(&mut self, cx: &mut Context<'_, Tactical>, pose: &Pose) {
+    fn drive<M: SquadTalk>(&mut self, cx: &mut Context<'_, Tactical<M>>, pose: &Pose) {
         let me = xy(pose);
         let pace = self.pace.unwrap_or(Pace::Halt);
         let mut off_route = false;
@@ -503,7 +513,7 @@ impl State {
     }
 
     /// Tells each member its pattern, slot, the spacing and the facing.
-    fn brief(&mut self, cx: &mut Context<'_, Tactical>) {
+    fn brief<M: SquadTalk>(&mut self, cx: &mut Context<'_, Tactical<M>>) {
         let facing = self
             .facing
             .map_or_else(|| "-".to_string(), |f| format!("{f:.4}"));
@@ -514,7 +524,7 @@ impl State {
                 i + 1,
                 self.params.spacing
             );
-            let msg = Radio::Signal("formation".into(), text);
+            let msg = M::from(Signal::new("formation", text));
             cx.send(Outgoing::new(Address::Agent(m), msg));
         }
         self.briefed = true;
@@ -532,8 +542,8 @@ impl State {
     }
 }
 
-impl Controller for Leader {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+impl<M: SquadTalk> Controller<Tactical<M>> for Leader {
+    fn handle(&mut self, input: Input<'_, Tactical<M>>, cx: &mut Context<'_, Tactical<M>>) {
         match input {
             Input::Timer(key) if TICK.index(key).is_some() => {
                 if TICK.index(key) == Some(self.tick_index) && self.tick(cx) {

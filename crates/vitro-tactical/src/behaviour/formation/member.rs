@@ -13,7 +13,7 @@ use crate::arena::{Ev, OwnPose};
 use crate::belief::{Fix, Whereabouts};
 use crate::entity::{Level, Pose};
 use crate::model::{Controller, Tactical};
-use crate::radio::Radio;
+use crate::radio::{Contact, Signal, SquadTalk};
 use crate::world::Side;
 use briefing::Brief;
 use vitro::comm::{Address, Envelope, Outgoing};
@@ -195,7 +195,7 @@ impl Member {
     }
 
     /// One deliberation cycle; false if the member has no body or no program (it stops).
-    fn tick(&mut self, cx: &mut Context<'_, Tactical>) -> bool {
+    fn tick<M: SquadTalk>(&mut self, cx: &mut Context<'_, Tactical<M>>) -> bool {
         let Some(interp) = &self.interp else {
             return false;
         };
@@ -237,21 +237,20 @@ impl Member {
             self.st.sent.as_ref(),
         );
         self.st.sent = Some(fix);
-        let fix = Radio::Position(fix);
-        cx.send(Outgoing::new(Address::Agent(self.st.leader), fix));
+        cx.send(Outgoing::new(Address::Agent(self.st.leader), M::from(fix)));
         self.cycles += 1;
         true
     }
 
-    fn hear(&mut self, env: &Envelope<Radio>) {
+    fn hear<M: SquadTalk>(&mut self, env: &Envelope<M>) {
         if env.from != self.st.leader {
             return;
         }
         self.st.known.hear(env);
-        if let Radio::Signal(name, text) = &env.body
+        if let Some(Signal { name, arg }) = env.body.read::<Signal>()
             && name == "formation"
         {
-            match Brief::parse(text) {
+            match Brief::parse(&arg) {
                 Ok(b) => {
                     self.st.brief = b;
                     self.st.detour = None;
@@ -271,7 +270,7 @@ impl State {
 
     /// Tracks the leader (where its reports put it now) and finds the slot (free), where it
     /// will be in one period, and whether the straight way there is clear.
-    fn locate_slot(&mut self, cx: &mut Context<'_, Tactical>, pose: &Pose) {
+    fn locate_slot<M: SquadTalk>(&mut self, cx: &mut Context<'_, Tactical<M>>, pose: &Pose) {
         let now = cx.now();
         let lead = self
             .known
@@ -345,7 +344,11 @@ impl State {
     }
 
     /// Straight to the slot's next position, at the speed that gets there in one period.
-    fn close(&mut self, cx: &mut Context<'_, Tactical>, cap: f64) -> Result<(), KbError> {
+    fn close<M: SquadTalk>(
+        &mut self,
+        cx: &mut Context<'_, Tactical<M>>,
+        cap: f64,
+    ) -> Result<(), KbError> {
         let (Some(pose), Some(to)) = (self.pose, self.target) else {
             return Err(KbError::Refused("no slot".into()));
         };
@@ -360,7 +363,11 @@ impl State {
     /// Round an obstacle to the slot: by the leader's way (the slot's base point, or the
     /// point of the leader's trail nearest to it that is in a straight line), else along the
     /// walk graph (planned again when stale), else backing out the way it came.
-    fn around(&mut self, cx: &mut Context<'_, Tactical>, cap: f64) -> Result<(), KbError> {
+    fn around<M: SquadTalk>(
+        &mut self,
+        cx: &mut Context<'_, Tactical<M>>,
+        cap: f64,
+    ) -> Result<(), KbError> {
         let (Some(pose), Some(slot)) = (self.pose, self.slot) else {
             return Err(KbError::Refused("no slot".into()));
         };
@@ -428,7 +435,7 @@ impl State {
 
     /// The slot's base point if the way to it is clear, else the point of the leader's trail
     /// nearest to the base (among the nearest few) that is.
-    fn by_trail(&self, cx: &mut Context<'_, Tactical>, me: P2) -> Option<P2> {
+    fn by_trail<M: SquadTalk>(&self, cx: &mut Context<'_, Tactical<M>>, me: P2) -> Option<P2> {
         let base = self.base?;
         let mut pts: Vec<P2> = self.trail.points().to_vec();
         pts.sort_by(|a, b| dist(*a, base).total_cmp(&dist(*b, base)));
@@ -439,7 +446,11 @@ impl State {
 
     /// The oldest point of its own way it can walk back to in a straight line (forgetting
     /// the way after it once there).
-    fn back_out(&mut self, cx: &mut Context<'_, Tactical>, me: P2) -> Result<P2, KbError> {
+    fn back_out<M: SquadTalk>(
+        &mut self,
+        cx: &mut Context<'_, Tactical<M>>,
+        me: P2,
+    ) -> Result<P2, KbError> {
         let pts = self.own.points().to_vec();
         let Some(i) = (0..pts.len()).find(|&i| {
             cx.sense(&ClearWay {
@@ -457,12 +468,12 @@ impl State {
 }
 
 /// The member's modules bound to its state and context for one cycle.
-struct Bound<'a, 'c> {
+struct Bound<'a, 'c, M: SquadTalk> {
     st: &'a mut State,
-    cx: &'a mut Context<'c, Tactical>,
+    cx: &'a mut Context<'c, Tactical<M>>,
 }
 
-impl ModuleSet for Bound<'_, '_> {
+impl<M: SquadTalk> ModuleSet for Bound<'_, '_, M> {
     fn find(&self, name: &str) -> Option<usize> {
         kb::index(MODULES, name)
     }
@@ -538,11 +549,11 @@ impl ModuleSet for Bound<'_, '_> {
                 let Some(h) = st.seen.iter().find(|h| i64::from(h.id.0) == n).copied() else {
                     return Err(KbError::Refused(format!("{n} is not in sight")));
                 };
-                let msg = Radio::Contact {
+                let msg = M::from(Contact {
                     target: h.id,
                     pos: h.pos,
                     seen_as: Side::Red,
-                };
+                });
                 cx.send(Outgoing::new(Address::Agent(st.leader), msg));
                 st.reported.push((h.id, cx.now()));
                 Ok(())
@@ -552,8 +563,8 @@ impl ModuleSet for Bound<'_, '_> {
     }
 }
 
-impl Controller for Member {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+impl<M: SquadTalk> Controller<Tactical<M>> for Member {
+    fn handle(&mut self, input: Input<'_, Tactical<M>>, cx: &mut Context<'_, Tactical<M>>) {
         match input {
             Input::Timer(key) if TICK.index(key).is_some() => {
                 if TICK.index(key) == Some(self.tick_index) && self.tick(cx) {

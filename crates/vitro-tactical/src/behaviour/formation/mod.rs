@@ -4,7 +4,8 @@
 //! only through its context: its own pose ([`OwnPose`](crate::arena::OwnPose)), a tracking
 //! sensor on the leader (members) or on the members (leader), the map sensors of [`sense`],
 //! the troopers' actuators (`MoveAndTurn` at the directed level, `WalkToNode` at the
-//! discrete level) and the radio ([`Radio`]).
+//! discrete level) and the radio. They work in any mission whose messages carry the
+//! squad's four words ([`SquadTalk`]): fixes, contacts, commands and signals.
 //!
 //! # Patterns and slots
 //!
@@ -50,10 +51,10 @@
 //! → file, street → column, open → wedge, once the last change is
 //! [`FormationParams::settle`] old; contact → line, at once.
 //!
-//! **Contact.** A [`Radio::Contact`] report of a red body (from anyone), or a red trooper
+//! **Contact.** A [`Contact`] report of a red body (from anyone), or a red trooper
 //! the leader or a member sees ([`sense::Hostiles`]: within
 //! [`FormationParams::sight_range`] and in line of sight). Members report what they see to
-//! the leader as `Radio::Contact`. Contact lasts [`FormationParams::contact_hold`] after the
+//! the leader as a `Contact`. Contact lasts [`FormationParams::contact_hold`] after the
 //! latest report; the line faces the threat's bearing (briefed again when the bearing has
 //! turned 10°), and the leader walks at its slow pace.
 //!
@@ -67,16 +68,18 @@
 //!
 //! # Radio protocol
 //!
+//! Each word goes inside the mission's own message type (`M::from(word)`).
+//!
 //! | message | from → to | effect |
 //! |---|---|---|
-//! | `Radio::Order(Order::GoTo([x, y]))` | anyone → leader | walk to the walk-graph node nearest to world point (x, y) with the squad; then `Signal("arrived", "")` back to the sender. A new `GoTo` replaces the one under way (its sender is not told) |
-//! | `Radio::Order(Order::Hold)` | anyone → leader | stop where it stands (the squad keeps its slots); the `GoTo` under way is dropped |
-//! | `Radio::Signal("join", "7")` | anyone → leader | entity 7 joins the squad (last slot) |
-//! | `Radio::Signal("leave", "7")` | anyone → leader | entity 7 leaves the squad (and is told `formation none`) |
-//! | `Radio::Signal("unreachable", "x y")` | leader → sender of a `GoTo` | no walk route there |
-//! | `Radio::Signal("formation", "wedge 2 5 -")` | leader → member | pattern, slot number, spacing in metres, and the facing in radians (`-`: along the leader's way); sent on every change and every 10 s |
-//! | `Radio::Signal("formation", "none")` | leader → member | dismissed: stand still until briefed again |
-//! | `Radio::Contact { .. }` | member (or anyone) → leader | contact (if `seen_as` is red) |
+//! | `Command::GoTo([x, y])` | anyone → leader | walk to the walk-graph node nearest to world point (x, y) with the squad; then `Signal::new("arrived", "")` back to the sender. A new `GoTo` replaces the one under way (its sender is not told) |
+//! | `Command::Hold` | anyone → leader | stop where it stands (the squad keeps its slots); the `GoTo` under way is dropped |
+//! | `Signal::new("join", "7")` | anyone → leader | entity 7 joins the squad (last slot) |
+//! | `Signal::new("leave", "7")` | anyone → leader | entity 7 leaves the squad (and is told `formation none`) |
+//! | `Signal::new("unreachable", "x y")` | leader → sender of a `GoTo` | no walk route there |
+//! | `Signal::new("formation", "wedge 2 5 -")` | leader → member | pattern, slot number, spacing in metres, and the facing in radians (`-`: along the leader's way); sent on every change and every 10 s |
+//! | `Signal::new("formation", "none")` | leader → member | dismissed: stand still until briefed again |
+//! | `Contact { .. }` | member (or anyone) → leader | contact (if `seen_as` is red) |
 //!
 //! The id in `join` / `leave` is the decimal number inside the [`EntityId`]
 //! (`id.0.to_string()`, e.g. `"7"`); `EntityId`'s `Display` writes `"#7"`, which is accepted
@@ -113,7 +116,7 @@
 //! use vitro_tactical::entity::Level;
 //! use vitro_tactical::behaviour::formation::{FormationParams, LEADER_PROGRAM, Leader, Member, Script};
 //! use vitro_tactical::model::Tactical;
-//! use vitro_tactical::radio::{Order, Radio};
+//! use vitro_tactical::radio::{Basic, Command, Signal};
 //! use vitro_tactical::types::TroopKind;
 //! # use vitro_site::{map::{MapConfig, TownMap}, site::{Site, SiteConfig}, terrain::Terrain};
 //! # let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
@@ -142,22 +145,22 @@
 //!     sim.env_mut().add_trooper(id, TroopKind::Blue, Level::Directed, start, 0.0).unwrap();
 //! }
 //! // A commander orders the squad to the goal at t = 1 s.
-//! let order = Radio::Order(Order::GoTo(goal));
+//! let order = Basic::from(Command::GoTo(goal));
 //! let hq = sim.add("hq", Script::new(vec![(SimTime::from_secs(1), leader_id, order)])).unwrap();
 //! for id in [members[0], members[1], leader_id, hq.id()] {
 //!     sim.schedule(SimTime::ZERO, Target::Entity(id), Ev::Start).unwrap();
 //! }
 //! sim.run_until(SimTime::from_secs(600));
 //! let hq: &Script = sim.agent(&hq).unwrap();
-//! assert!(hq.heard.iter().any(|(_, _, m)| *m == Radio::Signal("arrived".into(), String::new())));
+//! assert!(hq.heard.iter().any(|(_, _, m)| *m == Basic::from(Signal::new("arrived", ""))));
 //! let leader: &Leader = sim.agent(&leader).unwrap();
 //! println!("formation {}, {} track points", leader.formation(), leader.trajectory().len());
 //! ```
 //!
 //! [`Tactical`]: crate::model::Tactical
 //! [`Controller`]: crate::model::Controller
-//! [`Radio`]: crate::radio::Radio
-//! [`Radio::Contact`]: crate::radio::Radio::Contact
+//! [`SquadTalk`]: crate::radio::SquadTalk
+//! [`Contact`]: crate::radio::Contact
 //! [`EntityId`]: vitro::entity::EntityId
 
 mod ground;

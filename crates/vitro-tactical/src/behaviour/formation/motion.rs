@@ -8,6 +8,7 @@ use crate::actuate::troop::discrete::{PacedHop, PacedWalkToNode, WalkToNode};
 use crate::entity::troop::StepCmd;
 use crate::entity::{Level, Pose};
 use crate::model::Tactical;
+use crate::radio::Message;
 use serde::{Deserialize, Serialize};
 use vitro::env::NodeId;
 use vitro::sim::Context;
@@ -30,9 +31,9 @@ pub(crate) struct Mover {
 impl Mover {
     /// Walks straight towards `to` at `speed` m/s (directed), or hops to the walk-graph
     /// node nearest `to` unless a hop is under way (discrete).
-    pub fn toward(
+    pub fn toward<M: Message>(
         &mut self,
-        cx: &mut Context<'_, Tactical>,
+        cx: &mut Context<'_, Tactical<M>>,
         pose: &Pose,
         to: P2,
         speed: f64,
@@ -67,7 +68,11 @@ impl Mover {
     }
 
     /// Hops to `node` (discrete level) unless a hop is under way.
-    pub fn hop(&mut self, cx: &mut Context<'_, Tactical>, node: NodeId) -> Result<(), MoveError> {
+    pub fn hop<M: Message>(
+        &mut self,
+        cx: &mut Context<'_, Tactical<M>>,
+        node: NodeId,
+    ) -> Result<(), MoveError> {
         if self.hopping {
             return Ok(());
         }
@@ -82,9 +87,9 @@ impl Mover {
 
     /// A squad leader's hop to `node` at its pace (discrete level; the pace counts where
     /// the arena is calibrated, [`PacedWalkToNode`]) unless a hop is under way.
-    pub fn paced_hop(
+    pub fn paced_hop<M: Message>(
         &mut self,
-        cx: &mut Context<'_, Tactical>,
+        cx: &mut Context<'_, Tactical<M>>,
         node: NodeId,
         slow: bool,
     ) -> Result<(), MoveError> {
@@ -101,7 +106,11 @@ impl Mover {
     }
 
     /// Stops where it stands (directed; a discrete hop always ends at its node).
-    pub fn stop(&mut self, cx: &mut Context<'_, Tactical>, pose: &Pose) -> Result<(), MoveError> {
+    pub fn stop<M: Message>(
+        &mut self,
+        cx: &mut Context<'_, Tactical<M>>,
+        pose: &Pose,
+    ) -> Result<(), MoveError> {
         if pose.level == Level::Discrete || !self.moving {
             return Ok(());
         }
@@ -180,7 +189,12 @@ impl Follow {
     /// The farthest point at most `look` metres ahead along the route (from the next point
     /// on) to which the way from `pos` is clear, and the walking speed there; `None` if the
     /// way to none of them (the next point included) is clear.
-    pub fn target(&self, cx: &mut Context<'_, Tactical>, pos: P2, look: f64) -> Option<(P2, f64)> {
+    pub fn target<M: Message>(
+        &self,
+        cx: &mut Context<'_, Tactical<M>>,
+        pos: P2,
+        look: f64,
+    ) -> Option<(P2, f64)> {
         let pts = &self.leg.pts;
         let first = *pts.get(self.next)?;
         let mut along = dist(pos, p2(first));

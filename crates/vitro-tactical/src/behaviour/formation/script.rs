@@ -2,7 +2,7 @@
 //! (a stand-in commander for tests, examples and documentation).
 
 use crate::model::{Controller, Tactical};
-use crate::radio::Radio;
+use crate::radio::{Basic, Carries, Message, Signal};
 use serde::{Deserialize, Serialize};
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;
@@ -18,21 +18,33 @@ const SEND: TimerTag = TimerTag(0x5343);
 /// each time it hears `Signal("arrived", _)` (a list of waypoints for a leader), and logs
 /// every message it receives. It starts at its first input (e.g.
 /// [`Ev::Start`](crate::arena::Ev::Start)).
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
-pub struct Script {
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Script<M = Basic> {
     /// What to send: when, to whom, what.
-    pub plan: Vec<(SimTime, EntityId, Radio)>,
+    pub plan: Vec<(SimTime, EntityId, M)>,
     /// What to send next each time an `arrived` signal comes in, in order.
-    pub on_arrival: Vec<(EntityId, Radio)>,
+    pub on_arrival: Vec<(EntityId, M)>,
     /// What it heard: when, from whom, what.
-    pub heard: Vec<(SimTime, EntityId, Radio)>,
+    pub heard: Vec<(SimTime, EntityId, M)>,
     started: bool,
     arrivals: usize,
 }
 
-impl Script {
+impl<M> Default for Script<M> {
+    fn default() -> Self {
+        Script {
+            plan: Vec::new(),
+            on_arrival: Vec::new(),
+            heard: Vec::new(),
+            started: false,
+            arrivals: 0,
+        }
+    }
+}
+
+impl<M> Script<M> {
     /// A script sending `plan`.
-    pub fn new(plan: Vec<(SimTime, EntityId, Radio)>) -> Self {
+    pub fn new(plan: Vec<(SimTime, EntityId, M)>) -> Self {
         Script {
             plan,
             ..Script::default()
@@ -40,13 +52,15 @@ impl Script {
     }
 
     /// The same script, sending `orders` one by one as `arrived` signals come in.
-    pub fn then_on_arrival(mut self, orders: Vec<(EntityId, Radio)>) -> Self {
+    pub fn then_on_arrival(mut self, orders: Vec<(EntityId, M)>) -> Self {
         self.on_arrival = orders;
         self
     }
+}
 
+impl<M: PartialEq> Script<M> {
     /// Every time it heard `msg`.
-    pub fn heard_all(&self, msg: &Radio) -> Vec<SimTime> {
+    pub fn heard_all(&self, msg: &M) -> Vec<SimTime> {
         self.heard
             .iter()
             .filter(|(_, _, m)| m == msg)
@@ -55,7 +69,7 @@ impl Script {
     }
 
     /// When it first heard `msg`, if it did.
-    pub fn heard_at(&self, msg: &Radio) -> Option<SimTime> {
+    pub fn heard_at(&self, msg: &M) -> Option<SimTime> {
         self.heard
             .iter()
             .find(|(_, _, m)| m == msg)
@@ -63,8 +77,8 @@ impl Script {
     }
 }
 
-impl Controller for Script {
-    fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+impl<M: Message + Carries<Signal>> Controller<Tactical<M>> for Script<M> {
+    fn handle(&mut self, input: Input<'_, Tactical<M>>, cx: &mut Context<'_, Tactical<M>>) {
         match input {
             Input::Timer(key) => {
                 if let Some(i) = SEND.index(key)
@@ -77,7 +91,7 @@ impl Controller for Script {
             }
             Input::Message(env) => {
                 self.heard.push((cx.now(), env.from, env.body.clone()));
-                if matches!(&env.body, Radio::Signal(s, _) if s == "arrived") {
+                if env.body.read::<Signal>().is_some_and(|s| s.is("arrived")) {
                     if let Some((to, msg)) = self.on_arrival.get(self.arrivals) {
                         cx.send(Outgoing::new(Address::Agent(*to), msg.clone()));
                     }

@@ -8,18 +8,18 @@ use crate::behaviour::formation::pattern::Pattern;
 use crate::behaviour::formation::record::{Arrival, Switch};
 use crate::entity::Level;
 use crate::model::Tactical;
-use crate::radio::Radio;
+use crate::radio::{Signal, SquadTalk};
 use vitro::comm::{Address, Outgoing};
 use vitro::sim::Context;
 use vitro_algo::rules::{Bindings, KbError, ModuleSet, Query, Term, Update};
 
 /// The leader's modules bound to its state and context for one cycle.
-pub(super) struct Bound<'a, 'c> {
+pub(super) struct Bound<'a, 'c, M: SquadTalk> {
     pub st: &'a mut State,
-    pub cx: &'a mut Context<'c, Tactical>,
+    pub cx: &'a mut Context<'c, Tactical<M>>,
 }
 
-impl ModuleSet for Bound<'_, '_> {
+impl<M: SquadTalk> ModuleSet for Bound<'_, '_, M> {
     fn find(&self, name: &str) -> Option<usize> {
         kb::index(MODULES, name)
     }
@@ -117,7 +117,7 @@ impl ModuleSet for Bound<'_, '_> {
                 let Some(r) = st.route.take() else {
                     return Err(KbError::Refused("no order to report on".into()));
                 };
-                let msg = Radio::Signal(atom(u)?.to_string(), String::new());
+                let msg = M::from(Signal::new(atom(u)?, ""));
                 cx.send(Outgoing::new(Address::Agent(r.requester), msg));
                 st.arrivals.push(Arrival {
                     t: cx.now(),

@@ -8,20 +8,20 @@ use crate::behaviour::formation::motion::{Follow, xy};
 use crate::behaviour::formation::sense::{Leg, WalkRoute};
 use crate::entity::Level;
 use crate::model::Tactical;
-use crate::radio::Radio;
+use crate::radio::{Signal, SquadTalk};
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::EntityId;
 use vitro::sim::Context;
 use vitro_site::geo::P2;
 
 /// Tells `id` it is no longer in the squad.
-pub(super) fn dismiss(cx: &mut Context<'_, Tactical>, id: EntityId) {
-    let msg = Radio::Signal("formation".into(), "none".into());
+pub(super) fn dismiss<M: SquadTalk>(cx: &mut Context<'_, Tactical<M>>, id: EntityId) {
+    let msg = M::from(Signal::new("formation", "none"));
     cx.send(Outgoing::new(Address::Agent(id), msg));
 }
 
 /// The rest of `old` up to its next node, then the walk route from that node to `goal`.
-fn splice(cx: &mut Context<'_, Tactical>, old: &Follow, goal: P2) -> Option<Leg> {
+fn splice<M: SquadTalk>(cx: &mut Context<'_, Tactical<M>>, old: &Follow, goal: P2) -> Option<Leg> {
     let &(end, _) = old.leg.nodes.iter().find(|&&(i, _)| i >= old.next)?;
     let node = old.leg.pts.get(end)?;
     let tail = cx.sense(&WalkRoute {
@@ -48,7 +48,12 @@ pub(super) fn parse_id(s: &str) -> Option<EntityId> {
 
 impl State {
     /// Plans the walk to `goal` for `requester`.
-    pub(super) fn go_to(&mut self, cx: &mut Context<'_, Tactical>, requester: EntityId, goal: P2) {
+    pub(super) fn go_to<M: SquadTalk>(
+        &mut self,
+        cx: &mut Context<'_, Tactical<M>>,
+        requester: EntityId,
+        goal: P2,
+    ) {
         let pose = cx.sense(&OwnPose);
         let mut leg = pose.and_then(|p| {
             cx.sense(&WalkRoute {
@@ -78,7 +83,10 @@ impl State {
             }
             None => {
                 self.route = None;
-                let msg = Radio::Signal("unreachable".into(), format!("{} {}", goal[0], goal[1]));
+                let msg = M::from(Signal::new(
+                    "unreachable",
+                    format!("{} {}", goal[0], goal[1]),
+                ));
                 cx.send(Outgoing::new(Address::Agent(requester), msg));
                 self.problem(format!("no walk route to {goal:?}"));
             }
