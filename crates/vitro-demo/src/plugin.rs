@@ -74,25 +74,14 @@ impl vitro_mission::Mission for PatrollingCars {
             .map(|(k, _)| k)
             .collect()
     }
-    fn standalone(
-        &self,
-        scenario: &toml::Table,
-        seed: u64,
-        end_s: Option<f64>,
-        _from: &Path,
-        _to: &Path,
-    ) -> Result<String, String> {
-        // The demo names no files: only the seed and the end time change.
-        let mut t = scenario.clone();
-        vitro_mission::set_seed(&mut t, seed)?;
-        if let Some(end) = end_s {
-            let old = t.get("end_s").and_then(toml::Value::as_float);
-            t.insert(
-                "end_s".into(),
-                toml::Value::Float(old.map_or(end, |o| o.min(end))),
-            );
-        }
-        toml::to_string(&t).map_err(|e| e.to_string())
+
+    /// The demo names no files; it ends at `end_s`.
+    fn end_key(&self) -> &'static [&'static str] {
+        &["end_s"]
+    }
+
+    fn file_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[]
     }
 }
 

@@ -14,9 +14,6 @@ use vitro_tactical::scenario::{Diagnostics, FidelitySpec, Preset, ScenarioFile, 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Evacuation;
 
-/// The fidelity presets `--fidelity` takes.
-const LEVELS: [&str; 3] = ["discrete", "interpolated", "physical"];
-
 /// Every problem of a scenario, each with its place and the offending line.
 fn diagnostics(d: Diagnostics) -> vitro_mission::MissionError {
     let n = d.len();
@@ -35,18 +32,9 @@ pub fn validated(
     fidelity: Option<&str>,
 ) -> Result<Validated, vitro_mission::MissionError> {
     let mut v = ScenarioFile::validate_text(path, text).map_err(diagnostics)?;
-    if let Some(level) = fidelity {
-        let level = match level {
-            "discrete" => Preset::Discrete,
-            "interpolated" => Preset::Interpolated,
-            "physical" => Preset::Physical,
-            other => {
-                return Err(vitro_mission::MissionError::Scenario(format!(
-                    "--fidelity {other}: expected one of {}",
-                    LEVELS.join(", ")
-                )));
-            }
-        };
+    let preset = Preset::named(fidelity)
+        .map_err(|e| vitro_mission::MissionError::Scenario(e.to_string()))?;
+    if let Some(level) = preset {
         v.loaded.file.fidelity = FidelitySpec {
             level,
             ..FidelitySpec::default()
@@ -73,7 +61,7 @@ impl vitro_mission::Mission for Evacuation {
     }
 
     fn fidelity_levels(&self) -> &'static [&'static str] {
-        &LEVELS
+        &Preset::NAMES
     }
 
     fn validate(&self, path: &Path, text: &str) -> Result<String, vitro_mission::MissionError> {
@@ -113,47 +101,13 @@ impl vitro_mission::Mission for Evacuation {
             .collect()
     }
 
-    fn standalone(
-        &self,
-        scenario: &toml::Table,
-        seed: u64,
-        end_s: Option<f64>,
-        from: &Path,
-        to: &Path,
-    ) -> Result<String, String> {
-        let mut t = scenario.clone();
-        vitro_mission::set_seed(&mut t, seed)?;
-        if let Some(end) = end_s {
-            let table = t
-                .entry("end")
-                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-            if let toml::Value::Table(e) = table {
-                let old = e.get("time_s").and_then(toml::Value::as_float);
-                e.insert(
-                    "time_s".into(),
-                    toml::Value::Float(old.map_or(end, |o| o.min(end))),
-                );
-            }
-        }
-        // Files the scenario names resolve from its own directory: rewrite them for `to`.
-        for (table, key) in [
+    fn file_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[
             ("site", "map"),
             ("site", "terrain"),
+            ("fidelity", "calibration"),
             ("formation", "program"),
-        ] {
-            let Some(toml::Value::Table(sub)) = t.get_mut(table) else {
-                continue;
-            };
-            let Some(toml::Value::String(p)) = sub.get(key) else {
-                continue;
-            };
-            if Path::new(p).is_absolute() {
-                continue;
-            }
-            let moved = vitro_mission::relative_path(&from.join(p), to)?;
-            sub.insert(key.into(), toml::Value::String(moved));
-        }
-        toml::to_string(&t).map_err(|e| e.to_string())
+        ]
     }
 }
 

@@ -5,11 +5,8 @@
 
 use super::Mission;
 use std::collections::BTreeMap;
-use vitro_record::{
-    Building, Detection, EntityState, Frame, Geo, Heightmap, Intention, Scene, SensorFootprint,
-};
-use vitro_site::map::Mode;
-use vitro_site::site::Site;
+use vitro_mission::scene::site_scene;
+use vitro_record::{Detection, EntityState, Frame, Intention, Scene, SensorFootprint};
 use vitro_tactical::condition::Status;
 use vitro_tactical::sensor::FriendFoeVision;
 use vitro_tactical::world::{Body, Side};
@@ -22,51 +19,6 @@ fn side(s: Side) -> vitro_record::Side {
     }
 }
 
-/// Terrain samples per side of the scene's heightmap (at most).
-const TERRAIN_SAMPLES: usize = 96;
-
-fn geo(site: &Site) -> Geo {
-    let p = site.map.projection;
-    let [lat1, lon1] = p.unproject([1000.0, 1000.0]);
-    Geo {
-        lat0: p.lat0,
-        lon0: p.lon0,
-        m_per_deg_lat: 1000.0 / (lat1 - p.lat0),
-        m_per_deg_lon: 1000.0 / (lon1 - p.lon0),
-        offset: site.offset,
-        z0: 0.0,
-    }
-}
-
-fn heightmap(site: &Site) -> Heightmap {
-    let e = site.terrain.extent();
-    let span = (e[2] - e[0]).max(e[3] - e[1]);
-    let cell = span / (TERRAIN_SAMPLES - 1) as f64;
-    let nx = (((e[2] - e[0]) / cell) as usize + 1).min(TERRAIN_SAMPLES);
-    let ny = (((e[3] - e[1]) / cell) as usize + 1).min(TERRAIN_SAMPLES);
-    let mut z = Vec::with_capacity(nx * ny);
-    for j in 0..ny {
-        for i in 0..nx {
-            let x = (e[0] + i as f64 * cell).min(e[2]);
-            let y = (e[1] + j as f64 * cell).min(e[3]);
-            z.push(site.ground([x, y]).unwrap_or(0.0) as f32);
-        }
-    }
-    Heightmap {
-        nx,
-        ny,
-        origin: [e[0], e[1]],
-        cell,
-        z,
-    }
-}
-
-fn lines(site: &Site, mode: Mode) -> Vec<Vec<[f64; 3]>> {
-    (0..site.map.streets(mode).segments.len())
-        .filter_map(|i| site.segment_path(mode, i))
-        .collect()
-}
-
 impl Mission {
     /// The static scene of the mission. From the first call on, the radio messages are kept
     /// for the frames ([`frame`](Self::frame) hands over those since the last frame): a
@@ -77,39 +29,14 @@ impl Mission {
             h.watched = true;
         }
         let site = &self.brief.site;
-        let e = site.map.extent;
-        let [ox, oy] = site.offset;
         let places = ["start", "safehouse", "extraction"]
             .into_iter()
             .zip(self.brief.places)
             .map(|(k, p)| (k.to_string(), p))
             .collect();
-        Scene {
-            name: self.name.clone(),
-            start_unix_ms: self.start.unix_millis(),
-            geo: geo(site),
-            extent: [e[0] + ox, e[1] + oy, e[2] + ox, e[3] + oy],
-            streets: lines(site, Mode::Drive),
-            paths: lines(site, Mode::Walk),
-            buildings: site
-                .buildings
-                .iter()
-                .map(|b| Building {
-                    footprint: b.footprint.outer.clone(),
-                    base: b.base,
-                    height: b.roof - b.base,
-                })
-                .collect(),
-            bridges: site.bridges.iter().map(|b| b.deck.clone()).collect(),
-            forbidden: site
-                .map
-                .water
-                .iter()
-                .map(|w| w.area.outer.iter().map(|&p| site.to_world(p)).collect())
-                .collect(),
-            places,
-            terrain: heightmap(site),
-        }
+        let mut scene = site_scene(site, self.name.clone(), self.start.unix_millis());
+        scene.places = places;
+        scene
     }
 
     /// The state now, as a frame; the messages (kept once the [scene](Self::scene) was asked

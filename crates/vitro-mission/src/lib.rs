@@ -45,6 +45,7 @@ pub mod batch;
 mod kind;
 mod metric;
 mod registry;
+pub mod scene;
 pub mod snapshot;
 
 pub use kind::{KindError, kind_of};
@@ -131,11 +132,29 @@ pub trait Mission: Sync {
     ) -> Result<Box<dyn Run>, MissionError>;
     /// The names [`Run::metrics`] returns, in the same order (batch summary columns).
     fn metric_names(&self) -> Vec<&'static str>;
+    /// Where a scenario file says when the run ends: the keys from the top level down to
+    /// the end time in seconds ([`standalone`](Self::standalone) lowers it). By default
+    /// `end.time_s`, the shared tactical tables' `[end] time_s`.
+    fn end_key(&self) -> &'static [&'static str] {
+        &["end", "time_s"]
+    }
+    /// The paths a scenario file names, each as (table, key), relative to the file's own
+    /// directory ([`standalone`](Self::standalone) rewrites them). By default the shared
+    /// tactical tables' site files and calibration: `site.map`, `site.terrain`,
+    /// `fidelity.calibration`.
+    fn file_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("site", "map"),
+            ("site", "terrain"),
+            ("fidelity", "calibration"),
+        ]
+    }
     /// The text of a complete scenario file that, written into directory `to`, makes the same
     /// run as `scenario` (a scenario table read from a file in directory `from`) with `seed`
     /// and ending at `end_s` at the latest: the seed and end time set in it, relative paths
     /// rewritten for `to` ([`relative_path`]). `vitro search` writes its minimal failing
-    /// scenarios with it.
+    /// scenarios with it. By default it does so at [`end_key`](Self::end_key) and
+    /// [`file_keys`](Self::file_keys).
     ///
     /// # Errors
     /// Why the file cannot be written (e.g. a path that does not exist).
@@ -146,7 +165,77 @@ pub trait Mission: Sync {
         end_s: Option<f64>,
         from: &Path,
         to: &Path,
-    ) -> Result<String, String>;
+    ) -> Result<String, String> {
+        standalone(
+            scenario,
+            seed,
+            end_s,
+            self.end_key(),
+            self.file_keys(),
+            from,
+            to,
+        )
+    }
+}
+
+/// [`Mission::standalone`]'s work: `scenario` with `seed` set, the end time at `end_key`
+/// lowered to `end_s`, and the relative paths at `file_keys` rewritten from directory `from`
+/// for directory `to`, as TOML text.
+///
+/// ```
+/// let scenario: toml::Table = toml::from_str("seed = 1\n[end]\ntime_s = 900.0\n").unwrap();
+/// let here = std::env::current_dir().unwrap();
+/// let text = vitro_mission::standalone(&scenario, 7, Some(60.0), &["end", "time_s"], &[], &here, &here).unwrap();
+/// let back: toml::Table = toml::from_str(&text).unwrap();
+/// assert_eq!(back["seed"].as_integer(), Some(7));
+/// assert_eq!(back["end"]["time_s"].as_float(), Some(60.0));
+/// ```
+///
+/// # Errors
+/// If the seed does not fit a TOML integer, the end key is not a table path, a path cannot be
+/// resolved, or the table cannot be written.
+pub fn standalone(
+    scenario: &toml::Table,
+    seed: u64,
+    end_s: Option<f64>,
+    end_key: &[&str],
+    file_keys: &[(&str, &str)],
+    from: &Path,
+    to: &Path,
+) -> Result<String, String> {
+    let mut t = scenario.clone();
+    set_seed(&mut t, seed)?;
+    if let (Some(end), Some((last, tables))) = (end_s, end_key.split_last()) {
+        let mut at = &mut t;
+        for key in tables {
+            let sub = at
+                .entry(key.to_string())
+                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+            at = sub
+                .as_table_mut()
+                .ok_or_else(|| format!("`{key}` is not a table"))?;
+        }
+        // An end written as an integer (`time_s = 900`) is lowered too.
+        let old = (at.get(*last)).and_then(|v| v.as_float().or(v.as_integer().map(|i| i as f64)));
+        at.insert(
+            last.to_string(),
+            toml::Value::Float(old.map_or(end, |o| o.min(end))),
+        );
+    }
+    for &(table, key) in file_keys {
+        let Some(toml::Value::Table(sub)) = t.get_mut(table) else {
+            continue;
+        };
+        let Some(toml::Value::String(p)) = sub.get(key) else {
+            continue;
+        };
+        if Path::new(p).is_absolute() {
+            continue;
+        }
+        let moved = relative_path(&from.join(p), to)?;
+        sub.insert(key.into(), toml::Value::String(moved));
+    }
+    toml::to_string(&t).map_err(|e| e.to_string())
 }
 
 /// `target` as a path relative to directory `dir` (both must exist), with `/` separators.

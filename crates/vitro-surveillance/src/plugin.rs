@@ -14,9 +14,6 @@ use vitro_tactical::scenario::{Diagnostics, Preset};
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Surveillance;
 
-/// The fidelity presets `--fidelity` takes.
-const LEVELS: [&str; 3] = ["discrete", "interpolated", "physical"];
-
 /// Every problem of a scenario, each with its place and the offending line.
 fn diagnostics(d: Diagnostics) -> MissionError {
     let n = d.len();
@@ -42,7 +39,7 @@ impl vitro_mission::Mission for Surveillance {
     }
 
     fn fidelity_levels(&self) -> &'static [&'static str] {
-        &LEVELS
+        &Preset::NAMES
     }
 
     fn validate(&self, path: &Path, text: &str) -> Result<String, MissionError> {
@@ -73,18 +70,8 @@ impl vitro_mission::Mission for Surveillance {
         text: &str,
         options: &BuildOptions,
     ) -> Result<Box<dyn Run>, MissionError> {
-        let preset = match options.fidelity.as_deref() {
-            None => None,
-            Some("discrete") => Some(Preset::Discrete),
-            Some("interpolated") => Some(Preset::Interpolated),
-            Some("physical") => Some(Preset::Physical),
-            Some(other) => {
-                return Err(MissionError::Scenario(format!(
-                    "--fidelity {other}: expected one of {}",
-                    LEVELS.join(", ")
-                )));
-            }
-        };
+        let preset = Preset::named(options.fidelity.as_deref())
+            .map_err(|e| MissionError::Scenario(e.to_string()))?;
         let run = Operation::from_text(path, text, options.seed, preset).map_err(mission_error)?;
         Ok(Box::new(run))
     }
@@ -94,44 +81,6 @@ impl vitro_mission::Mission for Surveillance {
             .into_iter()
             .map(|(k, _)| k)
             .collect()
-    }
-
-    fn standalone(
-        &self,
-        scenario: &toml::Table,
-        seed: u64,
-        end_s: Option<f64>,
-        from: &Path,
-        to: &Path,
-    ) -> Result<String, String> {
-        let mut t = scenario.clone();
-        vitro_mission::set_seed(&mut t, seed)?;
-        if let Some(end) = end_s {
-            let table = t
-                .entry("end")
-                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-            if let toml::Value::Table(e) = table {
-                let old = e.get("time_s").and_then(toml::Value::as_float);
-                e.insert(
-                    "time_s".into(),
-                    toml::Value::Float(old.map_or(end, |o| o.min(end))),
-                );
-            }
-        }
-        // Files the scenario names resolve from its own directory: rewrite them for `to`.
-        if let Some(toml::Value::Table(site)) = t.get_mut("site") {
-            for key in ["map", "terrain"] {
-                let Some(toml::Value::String(p)) = site.get(key) else {
-                    continue;
-                };
-                if Path::new(p).is_absolute() {
-                    continue;
-                }
-                let moved = vitro_mission::relative_path(&from.join(p), to)?;
-                site.insert(key.into(), toml::Value::String(moved));
-            }
-        }
-        toml::to_string(&t).map_err(|e| e.to_string())
     }
 }
 

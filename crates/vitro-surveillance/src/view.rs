@@ -9,15 +9,9 @@ use crate::agents::uav::Uav;
 use crate::referee::Metrics;
 use std::collections::BTreeMap;
 use vitro::entity::EntityId;
-use vitro_record::{
-    Building, Detection, EntityState, Frame, Geo, Heightmap, Intention, Scene, SensorFootprint,
-};
-use vitro_site::map::Mode;
-use vitro_site::site::Site;
+use vitro_mission::scene::site_scene;
+use vitro_record::{Detection, EntityState, Frame, Intention, Scene, SensorFootprint};
 use vitro_tactical::world::Side;
-
-/// Terrain samples per side of the scene's heightmap (at most).
-const TERRAIN_SAMPLES: usize = 96;
 
 fn side(s: Side) -> vitro_record::Side {
     match s {
@@ -27,55 +21,11 @@ fn side(s: Side) -> vitro_record::Side {
     }
 }
 
-fn geo(site: &Site) -> Geo {
-    let p = site.map.projection;
-    let [lat1, lon1] = p.unproject([1000.0, 1000.0]);
-    Geo {
-        lat0: p.lat0,
-        lon0: p.lon0,
-        m_per_deg_lat: 1000.0 / (lat1 - p.lat0),
-        m_per_deg_lon: 1000.0 / (lon1 - p.lon0),
-        offset: site.offset,
-        z0: 0.0,
-    }
-}
-
-fn heightmap(site: &Site) -> Heightmap {
-    let e = site.terrain.extent();
-    let span = (e[2] - e[0]).max(e[3] - e[1]);
-    let cell = span / (TERRAIN_SAMPLES - 1) as f64;
-    let nx = (((e[2] - e[0]) / cell) as usize + 1).min(TERRAIN_SAMPLES);
-    let ny = (((e[3] - e[1]) / cell) as usize + 1).min(TERRAIN_SAMPLES);
-    let mut z = Vec::with_capacity(nx * ny);
-    for j in 0..ny {
-        for i in 0..nx {
-            let x = (e[0] + i as f64 * cell).min(e[2]);
-            let y = (e[1] + j as f64 * cell).min(e[3]);
-            z.push(site.ground([x, y]).unwrap_or(0.0) as f32);
-        }
-    }
-    Heightmap {
-        nx,
-        ny,
-        origin: [e[0], e[1]],
-        cell,
-        z,
-    }
-}
-
-fn lines(site: &Site, mode: Mode) -> Vec<Vec<[f64; 3]>> {
-    (0..site.map.streets(mode).segments.len())
-        .filter_map(|i| site.segment_path(mode, i))
-        .collect()
-}
-
 impl Operation {
     /// The static scene: the town, the station, and each sector's centre as a place
     /// `sector N` (the sectors of areas tasked later too).
     pub fn scene(&self) -> Scene {
         let site = &self.team.site;
-        let e = site.map.extent;
-        let [ox, oy] = site.offset;
         let mut places = BTreeMap::new();
         if let Some(p) = self.sim.env().pose(EntityId(0)) {
             places.insert("station".to_string(), p.pos);
@@ -86,27 +36,9 @@ impl Operation {
             let c = crate::sector::centre(s.area);
             places.insert(format!("sector {}", s.id), site.on_ground(c));
         }
-        Scene {
-            name: self.name.clone(),
-            start_unix_ms: self.start.unix_millis(),
-            geo: geo(site),
-            extent: [e[0] + ox, e[1] + oy, e[2] + ox, e[3] + oy],
-            streets: lines(site, Mode::Drive),
-            paths: lines(site, Mode::Walk),
-            buildings: (site.buildings.iter())
-                .map(|b| Building {
-                    footprint: b.footprint.outer.clone(),
-                    base: b.base,
-                    height: b.roof - b.base,
-                })
-                .collect(),
-            bridges: site.bridges.iter().map(|b| b.deck.clone()).collect(),
-            forbidden: (site.map.water.iter())
-                .map(|w| w.area.outer.iter().map(|&p| site.to_world(p)).collect())
-                .collect(),
-            places,
-            terrain: heightmap(site),
-        }
+        let mut scene = site_scene(site, self.name.clone(), self.start.unix_millis());
+        scene.places = places;
+        scene
     }
 
     /// The state now, as a frame; the messages and log lines since the previous frame are

@@ -172,6 +172,47 @@ pub enum Preset {
     Physical,
 }
 
+impl Preset {
+    /// Every preset, from the most abstract to the most concrete.
+    pub const ALL: [Preset; 3] = [Preset::Discrete, Preset::Interpolated, Preset::Physical];
+    /// Their names, as a scenario file and `--fidelity` write them, in the same order.
+    pub const NAMES: [&'static str; 3] = ["discrete", "interpolated", "physical"];
+
+    /// The preset's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Discrete => "discrete",
+            Preset::Interpolated => "interpolated",
+            Preset::Physical => "physical",
+        }
+    }
+
+    /// The preset named `name`, if any (a tool's `--fidelity`: [`None`] is no override).
+    ///
+    /// ```
+    /// use vitro_tactical::scenario::Preset;
+    /// assert_eq!(Preset::named(Some("physical")).unwrap(), Some(Preset::Physical));
+    /// assert_eq!(Preset::named(None).unwrap(), None);
+    /// let e = Preset::named(Some("high")).unwrap_err();
+    /// assert_eq!(e.to_string(), "--fidelity high: expected one of discrete, interpolated, physical");
+    /// ```
+    ///
+    /// # Errors
+    /// [`UnknownPreset`] if `name` names no preset.
+    pub fn named(name: Option<&str>) -> Result<Option<Preset>, UnknownPreset> {
+        let Some(name) = name else { return Ok(None) };
+        (Preset::ALL.into_iter())
+            .find(|p| p.name() == name)
+            .map(Some)
+            .ok_or_else(|| UnknownPreset(name.to_owned()))
+    }
+}
+
+/// A fidelity preset name that names none of [`Preset::NAMES`] (bad input).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("--fidelity {0}: expected one of discrete, interpolated, physical")]
+pub struct UnknownPreset(pub String);
+
 /// The fidelity level of each entity type: a preset, then an override per type.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
