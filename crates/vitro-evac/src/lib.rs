@@ -35,8 +35,7 @@ mod setup;
 mod snapshot;
 pub mod view;
 
-use crate::radio::Evac;
-use crate::radio::Radio;
+use crate::radio::{Evac, Radio};
 use brief::Brief;
 pub use error::MissionError;
 pub use member::Member;

@@ -25,8 +25,7 @@
 //! information set), which the target, knowing only its own camera, is not.
 
 use crate::brief::{BLUE, Brief};
-use crate::radio::Evac;
-use crate::radio::Radio;
+use crate::radio::{Evac, Radio};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::comm::{Address, Outgoing};

@@ -14,8 +14,7 @@ pub mod trooper;
 pub mod ugv;
 
 use super::brief::{BLUE, Brief};
-use crate::radio::Evac;
-use crate::radio::Radio;
+use crate::radio::{Evac, Radio};
 use serde::{Deserialize, Serialize};
 use vitro::comm::{Address, Outgoing};
 use vitro::entity::{EntityId, EntityMap};

@@ -37,8 +37,7 @@
 //! body passed, which free steering leaves behind.
 
 use crate::brief::Brief;
-use crate::radio::Evac;
-use crate::radio::Radio;
+use crate::radio::{Evac, Radio};
 use crate::sense::Fallen;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;

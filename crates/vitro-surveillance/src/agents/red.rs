@@ -14,8 +14,7 @@ use vitro::sim::{Context, Input};
 use vitro::time::SimDuration;
 use vitro_site::map::Mode;
 use vitro_tactical::arena::{Ev, OwnPose};
-use vitro_tactical::model::Controller;
-use vitro_tactical::model::Intention;
+use vitro_tactical::model::{Controller, Intention};
 
 /// Timer key: the pause is over.
 const GO: u64 = 1;

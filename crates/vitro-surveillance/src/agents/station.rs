@@ -24,8 +24,7 @@ use vitro::protocol::{CallFailure, CnetEvent, ContractNet, Handled, Participants
 use vitro::sim::{Context, Input};
 use vitro::time::SimTime;
 use vitro_tactical::arena::Ev;
-use vitro_tactical::model::Controller;
-use vitro_tactical::model::Intention;
+use vitro_tactical::model::{Controller, Intention};
 
 /// Timer key: look for silent UAVs.
 const CHECK: u64 = 1;

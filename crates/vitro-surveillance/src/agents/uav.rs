@@ -29,8 +29,7 @@ use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
 use vitro_tactical::arena::{Ev, OwnPose};
 use vitro_tactical::entity::air::FlightCommand;
-use vitro_tactical::model::Controller;
-use vitro_tactical::model::Intention;
+use vitro_tactical::model::{Controller, Intention};
 use vitro_tactical::sensor::track::{Lock, TrackEvent, Tracker};
 
 /// Timer key: look through the camera.

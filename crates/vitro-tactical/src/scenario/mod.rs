@@ -180,11 +180,7 @@ impl Preset {
 
     /// The preset's name.
     pub fn name(self) -> &'static str {
-        match self {
-            Preset::Discrete => "discrete",
-            Preset::Interpolated => "interpolated",
-            Preset::Physical => "physical",
-        }
+        Preset::NAMES[self as usize]
     }
 
     /// The preset named `name`, if any (a tool's `--fidelity`: [`None`] is no override).
@@ -210,7 +206,7 @@ impl Preset {
 
 /// A fidelity preset name that names none of [`Preset::NAMES`] (bad input).
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("--fidelity {0}: expected one of discrete, interpolated, physical")]
+#[error("--fidelity {0}: expected one of {names}", names = Preset::NAMES.join(", "))]
 pub struct UnknownPreset(pub String);
 
 /// The fidelity level of each entity type: a preset, then an override per type.

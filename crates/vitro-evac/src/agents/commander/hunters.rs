@@ -4,8 +4,7 @@
 use super::{Commander, Phase};
 use crate::agents::tell;
 use crate::agents::tender::{HUNT_TASK, RECALL_S};
-use crate::radio::Evac;
-use crate::radio::{Order, Radio};
+use crate::radio::{Evac, Order, Radio};
 use vitro::entity::EntityId;
 use vitro::protocol::{CallFailure, CnetEvent, Participants};
 use vitro::sim::Context;

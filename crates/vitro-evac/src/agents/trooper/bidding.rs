@@ -12,8 +12,7 @@
 use super::{Task, Trooper};
 use crate::agents::last_known;
 use crate::agents::tender::HUNT_TASK;
-use crate::radio::Evac;
-use crate::radio::Radio;
+use crate::radio::{Evac, Radio};
 use crate::sense::Myself;
 use vitro::entity::EntityId;
 use vitro::protocol::CnetEvent;

@@ -4,8 +4,7 @@
 use super::{DECIDED, TURN, Task, Trooper};
 use crate::agents::hunt::{HuntStep, LEAD_SILENT_TURNS, SILENT};
 use crate::agents::tell;
-use crate::radio::Evac;
-use crate::radio::{Order, Radio};
+use crate::radio::{Evac, Order, Radio};
 use crate::sense::Myself;
 use vitro::entity::EntityId;
 use vitro::sim::Context;
