@@ -141,7 +141,7 @@ impl ForbiddenZones {
         let env = AABB::from_corners([p[0] - r, p[1] - r], [p[0] + r, p[1] + r]);
         let mut hits: Vec<usize> = self
             .tree
-            .locate_in_envelope_intersecting(&env)
+            .locate_in_envelope_intersecting(env)
             .map(|g| g.data)
             .collect();
         hits.sort_unstable();
