@@ -13,6 +13,7 @@ use vitro::prelude::*;
 use vitro_tactical::arena::{Arena, Ev};
 use vitro_tactical::autopilot::{self, FlyError};
 use vitro_tactical::behaviour::route::{FlightMission, Leg};
+use vitro_tactical::calibrate::fit::qr_least_squares;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::air::ctol::FlyCmd;
 use vitro_tactical::model::{Controller, Tactical};
@@ -30,41 +31,11 @@ impl Controller for Circle {
 }
 
 /// Least-squares circle through points (Kåsa): centre and radius.
-#[allow(clippy::needless_range_loop)] // index loops read best for a 3 × 3 solve
 fn fit_circle(pts: &[[f64; 2]]) -> ([f64; 2], f64) {
-    // Minimise Σ (x² + y² + D x + E y + F)²: normal equations of [x y 1] · [D E F] = -(x²+y²).
-    let mut a = [[0.0f64; 3]; 3];
-    let mut b = [0.0f64; 3];
-    for p in pts {
-        let row = [p[0], p[1], 1.0];
-        let rhs = -(p[0] * p[0] + p[1] * p[1]);
-        for i in 0..3 {
-            for j in 0..3 {
-                a[i][j] += row[i] * row[j];
-            }
-            b[i] += row[i] * rhs;
-        }
-    }
-    // Gaussian elimination with partial pivoting.
-    for c in 0..3 {
-        let piv = (c..3)
-            .max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))
-            .unwrap();
-        a.swap(c, piv);
-        b.swap(c, piv);
-        for r in c + 1..3 {
-            let f = a[r][c] / a[c][c];
-            for k in c..3 {
-                a[r][k] -= f * a[c][k];
-            }
-            b[r] -= f * b[c];
-        }
-    }
-    let mut x = [0.0f64; 3];
-    for r in (0..3).rev() {
-        let s: f64 = (r + 1..3).map(|k| a[r][k] * x[k]).sum();
-        x[r] = (b[r] - s) / a[r][r];
-    }
+    // Minimise Σ (x² + y² + D x + E y + F)²: least squares of [x y 1] · [D E F] = -(x²+y²).
+    let rows: Vec<[f64; 3]> = pts.iter().map(|p| [p[0], p[1], 1.0]).collect();
+    let rhs: Vec<f64> = pts.iter().map(|p| -(p[0] * p[0] + p[1] * p[1])).collect();
+    let x = qr_least_squares(&rows, &rhs).expect("points not all on one line");
     let centre = [-x[0] / 2.0, -x[1] / 2.0];
     let r = (centre[0] * centre[0] + centre[1] * centre[1] - x[2]).sqrt();
     (centre, r)

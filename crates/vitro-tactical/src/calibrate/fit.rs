@@ -43,24 +43,87 @@ pub fn runs_needed(trips: &[Trip], to: &[Level]) -> usize {
 
 /// Least squares of `y` on the rows `x` with a light pull (1e-3 of each column's scale)
 /// towards `prior`, so that a regressor that hardly varies (no climb on a flat sample)
-/// keeps its prior instead of an arbitrary value.
+/// keeps its prior instead of an arbitrary value; a regressor that is zero in every row
+/// keeps its prior exactly. The pull is one extra row per column (ridge regression towards
+/// `prior`), and the stacked system is solved by Householder QR ([`qr_least_squares`]).
 pub fn least_squares<const N: usize>(x: &[[f64; N]], y: &[f64], prior: [f64; N]) -> [f64; N] {
-    let mut a = [[0.0; N]; N];
-    let mut b = [0.0; N];
-    for (r, &yi) in x.iter().zip(y) {
-        for i in 0..N {
-            b[i] += r[i] * yi;
-            for j in 0..N {
-                a[i][j] += r[i] * r[j];
-            }
+    let n = x.len().min(y.len());
+    let (x, y) = (&x[..n], &y[..n]);
+    let scale = |c: usize| x.iter().map(|r| r[c] * r[c]).sum::<f64>();
+    let cols: Vec<usize> = (0..N).filter(|&c| scale(c) > 0.0).collect();
+    let k = cols.len();
+    let mut a = nalgebra::DMatrix::zeros(n + k, k);
+    let mut b = nalgebra::DVector::zeros(n + k);
+    for (i, (r, yi)) in x.iter().zip(y).enumerate() {
+        for (j, &c) in cols.iter().enumerate() {
+            a[(i, j)] = r[c];
         }
+        b[i] = *yi;
     }
-    for i in 0..N {
-        let w = 1e-3 * a[i][i].max(1e-6);
-        a[i][i] += w;
-        b[i] += w * prior[i];
+    for (j, &c) in cols.iter().enumerate() {
+        let w = (1e-3 * scale(c).max(1e-6)).sqrt();
+        a[(n + j, j)] = w;
+        b[n + j] = w * prior[c];
     }
-    solve(a, b).unwrap_or(prior)
+    let mut p = prior;
+    match qr_solve(a, b) {
+        Some(fit) => {
+            for (&c, v) in cols.iter().zip(fit.iter()) {
+                p[c] = *v;
+            }
+            p
+        }
+        None => prior,
+    }
+}
+
+/// The `p` that minimises `Σ (rows[i] · p - y[i])²`, by nalgebra's Householder QR of the
+/// rows (no normal equations, so no squared condition number). `None` if there are fewer
+/// rows than unknowns, the rows do not have full column rank, or the answer is not finite.
+/// Householder reflections take only square roots, which IEEE 754 rounds the same on every
+/// platform: the same rows give the same bits everywhere.
+///
+/// ```
+/// use vitro_tactical::calibrate::fit::qr_least_squares;
+/// // y = 2 + 3 x, four points.
+/// let rows = [[1.0, 0.0], [1.0, 1.0], [1.0, 2.0], [1.0, 3.0]];
+/// let y = [2.0, 5.0, 8.0, 11.0];
+/// let [a, b] = qr_least_squares(&rows, &y).unwrap();
+/// assert!((a - 2.0).abs() < 1e-12 && (b - 3.0).abs() < 1e-12);
+/// assert!(qr_least_squares(&[[1.0, 2.0]], &[3.0]).is_none()); // one row, two unknowns
+/// ```
+pub fn qr_least_squares<const N: usize>(rows: &[[f64; N]], y: &[f64]) -> Option<[f64; N]> {
+    let m = rows.len().min(y.len());
+    let a = nalgebra::DMatrix::from_fn(m, N, |i, j| rows[i][j]);
+    let b = nalgebra::DVector::from_fn(m, |i, _| y[i]);
+    let p = qr_solve(a, b)?;
+    let mut out = [0.0; N];
+    for (o, v) in out.iter_mut().zip(p.iter()) {
+        *o = *v;
+    }
+    Some(out)
+}
+
+/// Least squares of `a p ≈ b` by Householder QR: `None` without full column rank (or more
+/// columns than rows) or with a non-finite answer.
+fn qr_solve(a: nalgebra::DMatrix<f64>, mut b: nalgebra::DVector<f64>) -> Option<Vec<f64>> {
+    let (m, n) = a.shape();
+    if n == 0 {
+        return Some(Vec::new());
+    }
+    if m < n {
+        return None;
+    }
+    let qr = a.qr();
+    qr.q_tr_mul(&mut b);
+    let r = qr.r();
+    if r.diagonal().iter().any(|d| d.abs() < 1e-12) {
+        return None;
+    }
+    let p = r.solve_upper_triangular(&b.rows(0, n).into_owned())?;
+    p.iter()
+        .all(|v| v.is_finite())
+        .then(|| p.iter().copied().collect())
 }
 
 /// How many robust standard deviations (1.4826 × the median absolute deviation) a trip's
@@ -145,32 +208,6 @@ fn loo_mse(x: &[[f64; 6]], y: &[f64]) -> f64 {
         })
         .sum();
     total / n as f64
-}
-
-/// Gaussian elimination with partial pivoting.
-fn solve<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
-    for c in 0..N {
-        let p = (c..N).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
-        if a[p][c].abs() < 1e-12 {
-            return None;
-        }
-        a.swap(c, p);
-        b.swap(c, p);
-        for r in c + 1..N {
-            let f = a[r][c] / a[c][c];
-            let pivot = a[c];
-            for (x, p) in a[r].iter_mut().zip(pivot).skip(c) {
-                *x -= f * p;
-            }
-            b[r] -= f * b[c];
-        }
-    }
-    let mut x = [0.0; N];
-    for c in (0..N).rev() {
-        let s: f64 = (c + 1..N).map(|k| a[c][k] * x[k]).sum();
-        x[c] = (b[c] - s) / a[c][c];
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 /// One run of the calibration: a trip at a level.
