@@ -33,7 +33,7 @@ mkdir -p "$out"
 
 # The targets each group holds (the bins of fuzz/Cargo.toml).
 declare -A group=(
-    [text]="pddl_domain pddl_problem rules edge_list patrol_instance ws_command"
+    [text]="pddl_domain pddl_problem rules edge_list patrol_instance vrp_instance ws_command"
     [site]="terrain_asc terrain_geotiff osm_pbf"
     [record]="mcap_replay"
     [missions]="scenario_evacuation scenario_surveillance scenario_demo experiment snapshot"
@@ -64,6 +64,7 @@ seeds() {
         rules) git ls-files '*.jz' ;;
         edge_list) git ls-files '*.edges' ;;
         patrol_instance) git ls-files 'data/patrol/*.toml' ;;
+        vrp_instance) git ls-files 'data/vrp/*' ;;
         terrain_asc) git ls-files '*.asc' ;;
         terrain_geotiff) git ls-files '*.tif' '*.tiff' ;;
         osm_pbf) git ls-files '*.pbf' ;;

@@ -177,3 +177,34 @@ fn garbage_never_panics() {
         }
     }
 }
+
+#[test]
+fn a_dimension_beyond_the_solvers_is_refused_at_its_value() {
+    let text = GOOD_VRP.replace("DIMENSION : 3", "DIMENSION : 10001");
+    let e = parse(&text).unwrap_err();
+    assert_eq!(place(&e), (3, 13), "{e}");
+    assert!(e.to_string().contains("10000 nodes"), "{e}");
+    // The fuzz target's find: a 17-digit DIMENSION once asked for that many slots.
+    let found = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fuzz_regressions/huge_dimension.vrp"
+    ))
+    .unwrap();
+    let e = parse(&String::from_utf8_lossy(&found)).unwrap_err();
+    assert!(e.to_string().contains("DIMENSION"), "{e}");
+}
+
+#[test]
+fn a_solomon_file_beyond_the_solvers_is_refused_at_the_first_extra_customer() {
+    // The good file up to its depot (customer 0), then customers 1 to 10,000.
+    let depot_end = GOOD_SOLOMON.find("\n1 ").expect("customer 1's line") + 1;
+    let mut text = GOOD_SOLOMON[..depot_end].to_string();
+    for i in 1..=10_000 {
+        text.push_str(&format!(
+            "    {i}      3      4     1      5     20      2\n"
+        ));
+    }
+    let e = parse_solomon(&text).unwrap_err();
+    assert_eq!(place(&e).0, 10 + 10_000, "{e}");
+    assert!(e.to_string().contains("10000 nodes"), "{e}");
+}

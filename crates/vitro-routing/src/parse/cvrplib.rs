@@ -173,6 +173,15 @@ impl Headers {
                 if d < 1 {
                     return Err(invalid(&tok, "DIMENSION must count the depot".to_string()));
                 }
+                if d > super::MAX_NODES as u64 {
+                    return Err(invalid(
+                        &tok,
+                        format!(
+                            "DIMENSION {d} is more than the {} nodes the solvers take",
+                            super::MAX_NODES
+                        ),
+                    ));
+                }
                 self.dimension =
                     Some(usize::try_from(d).map_err(|_| expected(&tok, "a node count"))?);
             }

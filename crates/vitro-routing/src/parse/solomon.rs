@@ -54,6 +54,13 @@ pub fn parse_solomon(text: &str) -> Result<Instance, ParseError> {
     for (ln, line) in lines {
         let t = tokens(line, ln);
         let no = unsigned(&t[0], "a customer number")?;
+        if nodes.len() >= super::MAX_NODES {
+            return Err(ParseError::Invalid {
+                line: ln,
+                column: t[0].column,
+                message: format!("more than the {} nodes the solvers take", super::MAX_NODES),
+            });
+        }
         if no != nodes.len() as u64 {
             return Err(ParseError::Invalid {
                 line: ln,
