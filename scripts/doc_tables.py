@@ -5,7 +5,7 @@
     python3 scripts/doc_tables.py --check                   # markers and commands only; runs nothing
     python3 scripts/doc_tables.py --cheap                   # the tables that take a few minutes
     python3 scripts/doc_tables.py --only patrol,repair      # some tables
-    python3 scripts/doc_tables.py                           # every table (hours on 2 cores)
+    python3 scripts/doc_tables.py                           # every table (about an hour on 2 cores)
 
 Options: `--jobs N` (runs at once, default 2; the results do not depend on it), `--seeds N`
 (the tables whose command takes a seed count; the page then states N), `--vitro PATH` (the
@@ -77,12 +77,12 @@ TABLES = {
         ALGORITHMS,
         batch("mission_patrol", "results/mission_patrol",
               "python3 scripts/patrol_table.py --markdown results/mission_patrol"),
-        makes={0: "results/mission_patrol"}, minutes=3),
+        makes={0: "results/mission_patrol"}, minutes=2),
     "hunt": Table(
         ALGORITHMS,
         batch("mission_hunt", "results/mission_hunt",
               "python3 scripts/hunt_table.py --batch results/mission_hunt"),
-        makes={0: "results/mission_hunt"}, minutes=25),
+        makes={0: "results/mission_hunt"}, minutes=20),
     "repair": Table(
         "docs/repair.md",
         batch("mission_repair", "results/mission_repair",
@@ -92,7 +92,7 @@ TABLES = {
         "docs/repair.md",
         batch("mission_repair_depth", "results/mission_repair_depth",
               "python3 scripts/repair_table.py results/mission_repair_depth"),
-        makes={0: "results/mission_repair_depth"}, minutes=3),
+        makes={0: "results/mission_repair_depth"}, minutes=2),
     "pursuit_mcts": Table(
         "docs/pursuit_game.md", ["scripts/pursuit_table.sh {vitro} mcts 300 20"], minutes=1),
     "pursuit_minimax": Table(

@@ -58,7 +58,7 @@ def markdown(groups: dict) -> None:
                              ("off schedule", off_schedule(rs))):
             if group:
                 print(markdown_row(f"{h}, {label}", group))
-        notes.append(f"Look-ahead {h}: {len(rs)} runs, {len(every)} attacks, {misread} of them on "
+        notes.append(f"- Look-ahead {h}: {len(rs)} runs, {len(every)} attacks, {misread} of them on "
                      f"a misread state; {resolved} runs re-solved the game; the game's least "
                      f"capture probability {game:.3f}.")
     print()
