@@ -6,6 +6,8 @@ the `start_turns` example's output.
     python3 scripts/calibration_table.py aircraft FILE    # the aircraft's flight fits
     target/release/examples/start_turns FILE cargo_truck 8 \\
         | python3 scripts/calibration_table.py start-turns
+    target/release/vitro check levels --calibration FILE --json \\
+        | python3 scripts/calibration_table.py predicts
 
 `ground`: one row per vehicle fit (entity types whose concrete level is `physical`; the
 troopers' fits, against the directed level, are left out): the six parameters, the number of
@@ -14,9 +16,12 @@ MAPE before and after calibration on the fitted and the held-out trips (% of the
 time; held out: with the largest error). `aircraft`: the same per aircraft type, five
 parameters. `start-turns`: the example's rows (start turn, physical extra time mean [min,
 max], interpolated, trips) turned into the page's table, one column per angle above 0.
+`predicts`: the rows of the property "the abstract level predicts the concrete one" from
+`vitro check levels --json`, one per entity type and abstract level.
 Prints the table only. Standard library only (tomllib: Python 3.11).
 """
 
+import json
 import sys
 import tomllib
 
@@ -89,9 +94,21 @@ def start_turns(text):
           + " |")
 
 
+def predicts(text):
+    rows = [r for r in json.loads(text) if r["property"].startswith("predicts ")]
+    if not rows:
+        sys.exit("no `predicts` rows: was --calibration given?")
+    print("| entity | level | against | holds | mean abs error, % | limit (before calibration) |")
+    print("|---|---|---|---|---:|---|")
+    for r in rows:
+        limit = r["limit"].replace("|", "\\|")  # a pipe in a cell ends it
+        print(f"| {r['entity']} | {r['level']} | {r['property'].split(' ', 1)[1]} "
+              f"| {'yes' if r['pass'] else 'no'} | {r['value']:.2f} | {limit} |")
+
+
 def main():
-    if len(sys.argv) == 2 and sys.argv[1] == "start-turns":
-        return start_turns(sys.stdin.read())
+    if len(sys.argv) == 2 and sys.argv[1] in ("start-turns", "predicts"):
+        return (start_turns if sys.argv[1] == "start-turns" else predicts)(sys.stdin.read())
     if len(sys.argv) != 3 or sys.argv[1] not in ("ground", "aircraft"):
         sys.exit(__doc__)
     with open(sys.argv[2], "rb") as f:

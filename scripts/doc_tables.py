@@ -111,6 +111,11 @@ TABLES = {
     "calibration_ground": Table(
         CAL_PAGE, [CALIBRATE, f"python3 scripts/calibration_table.py ground {CALIBRATION}"],
         makes={0: CALIBRATION}, minutes=2),
+    "check_levels": Table(
+        CAL_PAGE,
+        [f"{{vitro}} check levels --calibration {CALIBRATION} --json "
+         "| python3 scripts/calibration_table.py predicts"],
+        minutes=1),
     "fidelity_30": Table(
         CAL_PAGE,
         ["python3 scripts/fidelity_table.py --binary {vitro} --seeds {seeds} --jobs {jobs} "
