@@ -73,6 +73,7 @@ def batch(experiment, out, script):
 ALGORITHMS = "docs/guide/src/algorithms.md"
 CAL_PAGE = "docs/guide/src/calibration.md"
 TABLES = {
+    "readme_run": Table("README.md", ["{vitro} run scenarios/evacuation.toml"], text=True),
     "patrol": Table(
         ALGORITHMS,
         batch("mission_patrol", "results/mission_patrol",
