@@ -9,11 +9,11 @@
 
 Options: `--jobs N` (runs at once, default 2; the results do not depend on it), `--seeds N`
 (the tables whose command takes a seed count; the page then states N), `--vitro PATH` (the
-`vitro` binary; default `$VITRO_BIN`, else `target/release/vitro`), `--target DIR` (where the
-examples are built; default `$CARGO_TARGET_DIR`, else `target`), `--no-build` (use the example
-binaries that are there), `--reuse` (do not rerun a batch whose result directory, or a
-calibration whose file, is already there: only the table script runs), `--print` (print the
-blocks instead of writing them).
+`vitro` binary; default `$VITRO_BIN`, else `target/release/vitro`, built if missing),
+`--target DIR` (where the binaries are built; default `$CARGO_TARGET_DIR`, else `target`),
+`--no-build` (build nothing: use the binaries that are there), `--reuse` (a step whose output
+is already there, a batch's result directory, a calibration file or the fidelity CSVs, is not
+run again: only the table script runs), `--print` (print the blocks instead of writing them).
 
 Each table sits in its page between two markers,
 
@@ -156,8 +156,9 @@ class Context:
         target = pathlib.Path(a.target or os.environ.get("CARGO_TARGET_DIR") or "target")
         self.target = target if target.is_absolute() else ROOT / target
         self.examples = self.target / "release" / "examples"
-        vitro = a.vitro or os.environ.get("VITRO_BIN") or str(self.target / "release" / "vitro")
-        self.vitro = pathlib.Path(vitro).resolve()
+        vitro = a.vitro or os.environ.get("VITRO_BIN")
+        self.vitro_built_here = not vitro  # the default binary, built when it is missing
+        self.vitro = pathlib.Path(vitro or self.target / "release" / "vitro").resolve()
         self.jobs, self.seeds, self.build, self.reuse = a.jobs, a.seeds, not a.no_build, a.reuse
         self.done = {}  # command -> stdout, so a step two tables share runs once
 
@@ -196,6 +197,10 @@ def build(crate, example, ctx):
 
 def run_table(name, ctx):
     t = TABLES[name]
+    if not ctx.vitro.is_file() and ctx.vitro_built_here and ctx.build:
+        log("building vitro-cli (release)")
+        env = dict(os.environ, CARGO_TARGET_DIR=str(ctx.target))
+        subprocess.run(["cargo", "build", "--release", "--quiet", "-p", "vitro-cli"], cwd=ROOT, env=env)
     if not ctx.vitro.is_file():
         raise Failed(f"no vitro binary at {ctx.vitro} (cargo build --release -p vitro-cli, or --vitro)")
     for crate, example in t.builds:
