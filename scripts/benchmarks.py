@@ -41,6 +41,8 @@ import statistics
 import subprocess
 import sys
 
+import markers
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 DOC = ROOT / "docs" / "benchmarks.md"
 TARGET = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
@@ -465,12 +467,10 @@ TABLES = {
 
 
 def replace(doc, path, name, body):
-    begin, end = f"<!-- benchmarks.py: {name} -->", f"<!-- /benchmarks.py: {name} -->"
-    pattern = re.compile(re.escape(begin) + r".*?" + re.escape(end), re.S)
-    if not pattern.search(doc):
-        raise Failed(f"{path} has no markers for `{name}` ({begin} ... {end})")
-    text = "\n".join([begin, *body, end])
-    return pattern.sub(lambda _: text, doc, count=1)
+    try:
+        return markers.replace(doc, "benchmarks.py", name, body, where=str(path))
+    except markers.MarkerError as e:
+        raise Failed(str(e)) from e
 
 
 class Context:

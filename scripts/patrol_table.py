@@ -9,7 +9,12 @@ A computed probability within the realised rate's interval agrees with it. (Each
 attack, so the attacks are independent; the computed mean is itself a mean of fixed
 numbers, the game's exact probabilities of the states chosen.)
 
-Usage: python3 scripts/patrol_table.py RESULTS_DIR
+Usage: python3 scripts/patrol_table.py [--markdown] RESULTS_DIR
+
+With --markdown, prints only the guide's table (per look-ahead, largest first: all attacks, on
+schedule, off schedule; a group without attacks left out) and one line per look-ahead under
+it: the runs, the attacks on a misread state, the runs that re-solved, and the game's least
+capture probability.
 """
 
 import csv
@@ -18,10 +23,6 @@ import pathlib
 import sys
 
 from table_stats import wilson, num
-
-
-
-
 
 
 def line(label: str, attacks: list[tuple[float, bool]]) -> str:
@@ -34,22 +35,62 @@ def line(label: str, attacks: list[tuple[float, bool]]) -> str:
     return (f"{label:<28} {n:>5} {computed:>9.3f} {rate:>9.3f}  [{lo:.3f}, {hi:.3f}]  {agree}")
 
 
+def markdown_row(label: str, attacks: list[tuple[float, bool]]) -> str:
+    n = len(attacks)
+    k = sum(1 for _, s in attacks if s)
+    computed = sum(p for p, _ in attacks) / n
+    lo, hi = wilson(k, n)
+    agree = "yes" if lo - 1e-9 <= computed <= hi + 1e-9 else "no"
+    return f"| {label} | {n} | {computed:.3f} | {k / n:.3f} [{lo:.3f}, {hi:.3f}] | {agree} |"
+
+
+def markdown(groups: dict) -> None:
+    print("| look-ahead | attacks | computed | realised stop rate | agrees |")
+    print("|---|---:|---:|---|---|")
+    notes = []
+    for h in sorted(groups, reverse=True):
+        rs = groups[h]
+        every, on = attacks(rs)
+        misread = sum(1 for r in rs if num(r.get("patrol_attacks_misread")) >= 1)
+        resolved = sum(1 for r in rs if num(r.get("patrol_resolves")) >= 1)
+        game = min(num(r["patrol_capture_probability"]) for r in rs)
+        for label, group in (("all attacks", every), ("on schedule", on),
+                             ("off schedule", off_schedule(rs))):
+            if group:
+                print(markdown_row(f"{h}, {label}", group))
+        notes.append(f"- Look-ahead {h}: {len(rs)} runs, {len(every)} attacks, {misread} of them on "
+                     f"a misread state; {resolved} runs re-solved the game; the game's least "
+                     f"capture probability {game:.3f}.")
+    print()
+    print("\n".join(notes))
+
+
+def attacks(rs: list) -> tuple[list, list]:
+    every, on = [], []
+    for r in rs:
+        if num(r["patrol_attacks"]) >= 1:
+            every.append((num(r["patrol_capture_computed"]), num(r["patrol_attacks_stopped"]) >= 1))
+        if num(r["patrol_attacks_on_schedule"]) >= 1:
+            on.append((num(r["patrol_capture_on_schedule"]), num(r["patrol_stopped_on_schedule"]) >= 1))
+    return every, on
+
+
 def main() -> None:
-    if len(sys.argv) != 2:
+    args = sys.argv[1:]
+    md = "--markdown" in args
+    args = [a for a in args if a != "--markdown"]
+    if len(args) != 1:
         sys.exit(__doc__)
-    rows = list(csv.DictReader(open(pathlib.Path(sys.argv[1]) / "summary.csv")))
+    rows = list(csv.DictReader(open(pathlib.Path(args[0]) / "summary.csv")))
     groups: dict = {}
     for r in rows:
         groups.setdefault(r.get("patrol.horizon", "-"), []).append(r)
+    if md:
+        return markdown(groups)
     print(f"{'horizon / attacks':<28} {'n':>5} {'computed':>9} {'realised':>9}  Wilson 95 %        agree")
     for h in sorted(groups):
         rs = groups[h]
-        every, on = [], []
-        for r in rs:
-            if num(r["patrol_attacks"]) >= 1:
-                every.append((num(r["patrol_capture_computed"]), num(r["patrol_attacks_stopped"]) >= 1))
-            if num(r["patrol_attacks_on_schedule"]) >= 1:
-                on.append((num(r["patrol_capture_on_schedule"]), num(r["patrol_stopped_on_schedule"]) >= 1))
+        every, on = attacks(rs)
         game = min(num(r["patrol_capture_probability"]) for r in rs)
         misread = sum(1 for r in rs if num(r.get("patrol_attacks_misread")) >= 1)
         print(f"horizon {h}: {len(rs)} runs, {len(every)} attacks ({misread} on a misread state); "

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The pursuit theory table: on every reference graph (data/graphs, cop number c stated on the
 # first line), c-1 and c pursuers with full visibility against the exact evader; capture rate
-# with its 95% interval. Usage: scripts/pursuit_table.sh [VITRO] [ALGORITHM] [BUDGET] [EPISODES]
+# with its 95% interval, as a Markdown table (the table only: the command states its
+# arguments; --turns 30 --seed 1 always).
+# Usage: scripts/pursuit_table.sh [VITRO] [ALGORITHM] [BUDGET] [EPISODES]
 set -euo pipefail
 vitro=${1:-target/release/vitro}
 algorithm=${2:-mcts}
@@ -26,5 +28,3 @@ print("| %s | %s | %d | %.2f | %.2f-%.2f | %s |" % (sys.argv[1], sys.argv[2], r[
 ' "$(basename "$f" .edges)" "$c"
   done
 done
-echo
-echo "(--algorithm $algorithm --budget $budget --episodes $episodes --turns $turns --seed $seed; evader: exact)"
