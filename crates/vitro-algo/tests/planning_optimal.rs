@@ -1,9 +1,6 @@
 //! The long optimal-planning runs: A* with LM-cut on dwr problem-02 (35 steps) and depot
-//! p03 (27 steps). Seconds in release, minutes in debug, so they run only in release:
-//!
-//! ```text
-//! cargo test --release -p vitro-algo --test planning_optimal
-//! ```
+//! p03 (27 steps). Seconds optimised, minutes not: the workspace optimises `vitro-algo` in
+//! test builds too (`[profile.dev.package.vitro-algo]`), so they run with every other test.
 
 use vitro_algo::planning::pddl::{parse_domain, parse_problem};
 use vitro_algo::planning::validate::validate_plan;
@@ -31,13 +28,11 @@ fn optimal_length(domain: &str, problem: &str) -> usize {
 }
 
 #[test]
-#[cfg_attr(debug_assertions, ignore = "minutes in debug: run with --release")]
 fn dwr_problem_02_optimal_is_35() {
     assert_eq!(optimal_length("dwr/domain.pddl", "dwr/problem-02.pddl"), 35);
 }
 
 #[test]
-#[cfg_attr(debug_assertions, ignore = "minutes in debug: run with --release")]
 fn depot_p03_optimal_is_27() {
     assert_eq!(optimal_length("depot/domain.pddl", "depot/p03.pddl"), 27);
 }
