@@ -47,6 +47,11 @@ pub(crate) struct ViewArgs {
     /// loopback names and the address it is bound to.
     #[arg(long = "allow-host", value_name = "NAME")]
     allow_host: Vec<String>,
+    /// Also answer to requests from pages of this origin (`https://viewer.example`, exactly),
+    /// their `Host` still checked; repeatable. The Foxglove server always answers to the
+    /// Foxglove web app's, https://app.foxglove.dev.
+    #[arg(long = "allow-origin", value_name = "ORIGIN")]
+    allow_origin: Vec<String>,
     /// Also serves the live run over the Foxglove WebSocket protocol on ADDR (default
     /// 127.0.0.1:8765), for the Foxglove app: Open connection, Foxglove WebSocket,
     /// ws://ADDR. Put it after the scenario.
@@ -72,7 +77,7 @@ impl ViewArgs {
 
 pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
     // Checked before anything runs: a bad name is bad input.
-    hosts(args.addr, &args.allow_host)?;
+    hosts(args.addr, args)?;
     let is_recording = args
         .target
         .extension()
@@ -136,20 +141,34 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
     result
 }
 
-/// The hosts the viewer on `bound` answers to: loopback names, `bound`, and `allowed`.
-fn hosts(bound: SocketAddr, allowed: &[String]) -> Result<HostPolicy, Failure> {
-    allowed.iter().try_fold(HostPolicy::new(bound), |p, name| {
-        p.allow(name)
-            .map_err(|e| Failure::Input(anyhow::Error::new(e).context("--allow-host")))
-    })
+/// The hosts a server on `bound` answers to: loopback names, `bound`, and those `args`
+/// allow (`--allow-host`, `--allow-origin`).
+fn hosts(bound: SocketAddr, args: &ViewArgs) -> Result<HostPolicy, Failure> {
+    let policy = args
+        .allow_host
+        .iter()
+        .try_fold(HostPolicy::new(bound), |p, name| {
+            p.allow(name)
+                .map_err(|e| Failure::Input(anyhow::Error::new(e).context("--allow-host")))
+        })?;
+    args.allow_origin
+        .iter()
+        .try_fold(policy, |p, origin| match origin.split_once("://") {
+            Some((scheme, host)) if !scheme.is_empty() && !host.is_empty() => {
+                Ok(p.allow_origin(origin))
+            }
+            _ => Err(Failure::Input(anyhow!(
+                "--allow-origin {origin:?}: expected SCHEME://HOST[:PORT] (https://viewer.example)"
+            ))),
+        })
 }
 
 async fn serve_until_interrupted(args: &ViewArgs, feed: Feed) -> Result<(), Failure> {
     let (listener, bound) = listen(args.addr).await?;
-    let hosts = hosts(bound, &args.allow_host)?;
+    let hosts = hosts(bound, args)?;
     say(&format!("serving http://{bound}/ (Ctrl-C to stop)"));
     let foxglove = match (args.foxglove(), &feed) {
-        (Some(addr), Feed::Live(run)) => Some(foxglove(addr, &args.allow_host, run.clone()).await?),
+        (Some(addr), Feed::Live(run)) => Some(foxglove(addr, args, run.clone()).await?),
         _ => None,
     };
     if let Feed::Live(run) = &feed {
@@ -193,7 +212,7 @@ async fn interrupted() {
 #[cfg(feature = "foxglove")]
 async fn foxglove(
     addr: SocketAddr,
-    allowed: &[String],
+    args: &ViewArgs,
     run: LiveRun,
 ) -> Result<impl std::future::Future<Output = Result<(), Failure>>, Failure> {
     use vitro_viz::foxglove;
@@ -201,7 +220,7 @@ async fn foxglove(
         Failure::Input(e) => Failure::Input(e.context("--foxglove")),
         e => e,
     })?;
-    let hosts = hosts(bound, allowed)?.allow_origin(foxglove::FOXGLOVE_APP_ORIGIN);
+    let hosts = hosts(bound, args)?.allow_origin(foxglove::FOXGLOVE_APP_ORIGIN);
     say(&format!(
         "serving Foxglove ws://{bound} (Foxglove: Open connection, Foxglove WebSocket)"
     ));
@@ -217,7 +236,7 @@ async fn foxglove(
 #[cfg(not(feature = "foxglove"))]
 async fn foxglove(
     _addr: SocketAddr,
-    _allowed: &[String],
+    _args: &ViewArgs,
     _run: LiveRun,
 ) -> Result<std::future::Ready<Result<(), Failure>>, Failure> {
     Ok(std::future::ready(Ok(())))

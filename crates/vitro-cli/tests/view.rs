@@ -362,6 +362,8 @@ fn the_foxglove_server_answers_only_to_this_machine() {
         "--paused",
         "--foxglove",
         "127.0.0.1:0",
+        "--allow-origin",
+        "https://tool.example",
     ]);
     let fox = foxglove_addr(&server.next_line());
     let port = fox.rsplit(':').next().expect("port");
@@ -369,8 +371,19 @@ fn the_foxglove_server_answers_only_to_this_machine() {
         let line = http_status(&fox, "/", &host, None);
         assert!(line.contains(" 403 "), "{host}: {line}");
     }
-    let line = http_status(&fox, "/", &fox, None);
-    assert!(!line.contains(" 403 ") && line.contains(" 400 "), "{line}");
+    for origin in [
+        None,
+        Some("https://app.foxglove.dev"),
+        Some("https://tool.example"),
+    ] {
+        let line = http_status(&fox, "/", &fox, origin);
+        assert!(line.contains(" 400 "), "{origin:?}: {line}");
+    }
+    let line = http_status(&fox, "/", &fox, Some("https://evil.example"));
+    assert!(line.contains(" 403 "), "{line}");
+    let (code, _, err) = vitro(&["view", "scenarios/demo.toml", "--allow-origin", "x"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--allow-origin"), "{err}");
     // A recording is opened in Foxglove as a file, not served.
     let (code, _, err) = vitro(&["view", "run.mcap", "--foxglove", "127.0.0.1:0"]);
     assert_eq!(code, 2, "{err}");
