@@ -3,6 +3,8 @@
 //! `vitro view SCENARIO.toml` runs the scenario on its own thread, paced at `--speed`
 //! simulated seconds per wall second, and serves the viewer on `--addr`; `vitro view
 //! RUN.mcap` replays a recording. The page, its scripts and three.js come from the binary.
+//! With `--foxglove [ADDR]` the live run is also served over the Foxglove WebSocket protocol
+//! (default `127.0.0.1:8765`), for the Foxglove app: the same frames, the same controls.
 
 mod live;
 
@@ -45,15 +47,47 @@ pub(crate) struct ViewArgs {
     /// loopback names and the address it is bound to.
     #[arg(long = "allow-host", value_name = "NAME")]
     allow_host: Vec<String>,
+    /// Also answer to requests from pages of this origin (`https://viewer.example`, exactly),
+    /// their `Host` still checked; repeatable. The Foxglove server always answers to the
+    /// Foxglove web app's, https://app.foxglove.dev.
+    #[arg(long = "allow-origin", value_name = "ORIGIN")]
+    allow_origin: Vec<String>,
+    /// Also serves the live run over the Foxglove WebSocket protocol on ADDR (default
+    /// 127.0.0.1:8765), for the Foxglove app: Open connection, Foxglove WebSocket,
+    /// ws://ADDR. Put it after the scenario.
+    #[cfg(feature = "foxglove")]
+    #[arg(
+        long,
+        value_name = "ADDR",
+        num_args = 0..=1,
+        default_missing_value = "127.0.0.1:8765"
+    )]
+    foxglove: Option<SocketAddr>,
+}
+
+impl ViewArgs {
+    /// Where to serve the Foxglove protocol, if asked.
+    fn foxglove(&self) -> Option<SocketAddr> {
+        #[cfg(feature = "foxglove")]
+        return self.foxglove;
+        #[cfg(not(feature = "foxglove"))]
+        None
+    }
 }
 
 pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
     // Checked before anything runs: a bad name is bad input.
-    hosts(args.addr, &args.allow_host)?;
+    hosts(args.addr, args)?;
     let is_recording = args
         .target
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
+    if is_recording && args.foxglove().is_some() {
+        return Err(Failure::Input(anyhow!(
+            "--foxglove serves a live run: open a recording ({}) in Foxglove as a file",
+            args.target.display()
+        )));
+    }
     let feed = if is_recording {
         vitro_tools::input_file(&args.target)?;
         let recording = McapRecording::open(&args.target)
@@ -97,11 +131,7 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
         .build()
         .context("starting the server's runtime")
         .map_err(Failure::Runtime)?;
-    let result = runtime.block_on(serve_until_interrupted(
-        args.addr,
-        &args.allow_host,
-        feed.clone(),
-    ));
+    let result = runtime.block_on(serve_until_interrupted(args, feed.clone()));
     if let Feed::Live(run) = &feed {
         let reported = run.outcome().is_some();
         if let (Some(o), false) = (run.stop(), reported) {
@@ -111,19 +141,54 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), Failure> {
     result
 }
 
-/// The hosts the viewer on `bound` answers to: loopback names, `bound`, and `allowed`.
-fn hosts(bound: SocketAddr, allowed: &[String]) -> Result<HostPolicy, Failure> {
-    allowed.iter().try_fold(HostPolicy::new(bound), |p, name| {
-        p.allow(name)
-            .map_err(|e| Failure::Input(anyhow::Error::new(e).context("--allow-host")))
-    })
+/// The hosts a server on `bound` answers to: loopback names, `bound`, and those `args`
+/// allow (`--allow-host`, `--allow-origin`).
+fn hosts(bound: SocketAddr, args: &ViewArgs) -> Result<HostPolicy, Failure> {
+    let policy = args
+        .allow_host
+        .iter()
+        .try_fold(HostPolicy::new(bound), |p, name| {
+            p.allow(name)
+                .map_err(|e| Failure::Input(anyhow::Error::new(e).context("--allow-host")))
+        })?;
+    args.allow_origin
+        .iter()
+        .try_fold(policy, |p, origin| match origin.split_once("://") {
+            Some((scheme, host)) if !scheme.is_empty() && !host.is_empty() => {
+                Ok(p.allow_origin(origin))
+            }
+            _ => Err(Failure::Input(anyhow!(
+                "--allow-origin {origin:?}: expected SCHEME://HOST[:PORT] (https://viewer.example)"
+            ))),
+        })
 }
 
-async fn serve_until_interrupted(
-    addr: SocketAddr,
-    allowed: &[String],
-    feed: Feed,
-) -> Result<(), Failure> {
+async fn serve_until_interrupted(args: &ViewArgs, feed: Feed) -> Result<(), Failure> {
+    let (listener, bound) = listen(args.addr).await?;
+    let hosts = hosts(bound, args)?;
+    say(&format!("serving http://{bound}/ (Ctrl-C to stop)"));
+    let foxglove = match (args.foxglove(), &feed) {
+        (Some(addr), Feed::Live(run)) => Some(foxglove(addr, args, run.clone()).await?),
+        _ => None,
+    };
+    if let Feed::Live(run) = &feed {
+        let run = run.clone();
+        tokio::spawn(async move { report(&run.finished().await) });
+    }
+    let page = async {
+        serve_with(listener, feed, hosts, interrupted())
+            .await
+            .context("serving the view")
+            .map_err(Failure::Runtime)
+    };
+    match foxglove {
+        Some(foxglove) => tokio::try_join!(page, foxglove).map(|_| ()),
+        None => page.await,
+    }
+}
+
+/// Binds `addr`; the listener and the address it got.
+async fn listen(addr: SocketAddr) -> Result<(tokio::net::TcpListener, SocketAddr), Failure> {
     let listener = tokio::net::TcpListener::bind(addr)
         .await
         .with_context(|| format!("cannot listen on {addr}"))
@@ -132,22 +197,49 @@ async fn serve_until_interrupted(
         .local_addr()
         .context("reading the bound address")
         .map_err(Failure::Runtime)?;
-    let hosts = hosts(bound, allowed)?;
-    say(&format!("serving http://{bound}/ (Ctrl-C to stop)"));
-    if let Feed::Live(run) = &feed {
-        let run = run.clone();
-        tokio::spawn(async move { report(&run.finished().await) });
+    Ok((listener, bound))
+}
+
+/// Completes at Ctrl-C (never, without a signal handler: then the server runs until the
+/// process is killed).
+async fn interrupted() {
+    if tokio::signal::ctrl_c().await.is_err() {
+        std::future::pending::<()>().await;
     }
-    let shutdown = async {
-        // Without a signal handler the server runs until the process is killed.
-        if tokio::signal::ctrl_c().await.is_err() {
-            std::future::pending::<()>().await;
-        }
-    };
-    serve_with(listener, feed, hosts, shutdown)
-        .await
-        .context("serving the view")
-        .map_err(Failure::Runtime)
+}
+
+/// Binds `addr` and returns the Foxglove server of `run` on it, to be awaited.
+#[cfg(feature = "foxglove")]
+async fn foxglove(
+    addr: SocketAddr,
+    args: &ViewArgs,
+    run: LiveRun,
+) -> Result<impl std::future::Future<Output = Result<(), Failure>>, Failure> {
+    use vitro_viz::foxglove;
+    let (listener, bound) = listen(addr).await.map_err(|e| match e {
+        Failure::Input(e) => Failure::Input(e.context("--foxglove")),
+        e => e,
+    })?;
+    let hosts = hosts(bound, args)?.allow_origin(foxglove::FOXGLOVE_APP_ORIGIN);
+    say(&format!(
+        "serving Foxglove ws://{bound} (Foxglove: Open connection, Foxglove WebSocket)"
+    ));
+    Ok(async move {
+        foxglove::serve(listener, run, hosts, interrupted())
+            .await
+            .context("serving Foxglove")
+            .map_err(Failure::Runtime)
+    })
+}
+
+/// Without the feature there is no `--foxglove`: nothing to serve.
+#[cfg(not(feature = "foxglove"))]
+async fn foxglove(
+    _addr: SocketAddr,
+    _args: &ViewArgs,
+    _run: LiveRun,
+) -> Result<std::future::Ready<Result<(), Failure>>, Failure> {
+    Ok(std::future::ready(Ok(())))
 }
 
 /// Prints a line on stdout now (scripts wait for these lines).

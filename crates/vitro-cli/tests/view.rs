@@ -1,5 +1,6 @@
 //! `vitro view`: the demo served live; a watched, paused and stepped run ends with the trace
-//! hash of `vitro run`; bad arguments are bad input.
+//! hash of `vitro run`, and so does one served to a Foxglove client; bad arguments are bad
+//! input; the page and the Foxglove server answer only to this machine.
 
 mod common;
 
@@ -259,4 +260,132 @@ fn a_bad_allowed_host_is_bad_input() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--allow-host"), "{err}");
+}
+
+/// The address in a `serving Foxglove ws://ADDR ...` line.
+fn foxglove_addr(line: &str) -> String {
+    line.split("serving Foxglove ws://")
+        .nth(1)
+        .and_then(|s| s.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no Foxglove address in {line:?}"))
+        .to_owned()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_run_served_to_foxglove_and_watched_has_the_trace_hash_of_vitro_run() {
+    use tokio_tungstenite::tungstenite::client::IntoClientRequest;
+    let (scenario, until) = ("scenarios/evacuation.toml", "120");
+    let (code, out, err) = vitro(&["run", scenario, "--until", until, "--quiet"]);
+    assert!(code == 0 || code == 4, "{err}");
+    let unwatched = out.trim().to_owned();
+
+    let mut server = Server::start(&[
+        scenario,
+        "--addr",
+        "127.0.0.1:0",
+        "--speed",
+        "100",
+        "--until",
+        until,
+        "--foxglove",
+        "127.0.0.1:0",
+    ]);
+    let fox = foxglove_addr(&server.next_line());
+    let mut req = format!("ws://{fox}/").into_client_request().expect("url");
+    let proto = "foxglove.websocket.v1".parse().expect("header");
+    req.headers_mut().insert("Sec-WebSocket-Protocol", proto);
+    let (mut ws, _) = tokio_tungstenite::connect_async(req)
+        .await
+        .expect("websocket");
+    let mut topics = std::collections::BTreeMap::new();
+    while topics.is_empty() {
+        let msg = tokio::time::timeout(Duration::from_secs(60), ws.next())
+            .await
+            .expect("a message in time")
+            .expect("open")
+            .expect("readable");
+        if let Message::Text(t) = msg {
+            let v: Value = serde_json::from_str(t.as_str()).expect("JSON");
+            if v["op"] == "advertise" {
+                for c in v["channels"].as_array().expect("channels") {
+                    let topic = c["topic"].as_str().expect("topic").to_owned();
+                    topics.insert(c["id"].as_u64().expect("id"), topic);
+                }
+            }
+        }
+    }
+    let subscriptions: Vec<Value> = topics
+        .keys()
+        .map(|id| serde_json::json!({"id": id, "channelId": id}))
+        .collect();
+    let subscribe = serde_json::json!({"op": "subscribe", "subscriptions": subscriptions});
+    ws.send(Message::Text(subscribe.to_string().into()))
+        .await
+        .expect("send");
+    // The map, the entities and every GNSS channel deliver (the run may be over by now: a
+    // new subscription gets the scene and the latest frame).
+    let mut wanted: std::collections::BTreeSet<u64> = topics
+        .iter()
+        .filter(|(_, t)| *t == "/map" || *t == "/entities" || t.starts_with("/gps/"))
+        .map(|(&id, _)| id)
+        .collect();
+    let read = async {
+        while !wanted.is_empty() {
+            let msg = ws.next().await.expect("open").expect("readable");
+            if let Message::Binary(b) = msg
+                && b.first() == Some(&1)
+            {
+                let sub = u32::from_le_bytes(b[1..5].try_into().expect("4 bytes"));
+                serde_json::from_slice::<Value>(&b[13..]).expect("a JSON payload");
+                wanted.remove(&u64::from(sub));
+            }
+        }
+    };
+    tokio::time::timeout(Duration::from_secs(60), read)
+        .await
+        .expect("the map, the entities and every fix within a minute");
+    let line = tokio::task::spawn_blocking(move || server.next_line())
+        .await
+        .expect("the last line");
+    assert!(
+        line.contains(&format!("trace hash {unwatched}")) && line.contains("finished"),
+        "{line}"
+    );
+}
+
+#[test]
+fn the_foxglove_server_answers_only_to_this_machine() {
+    let mut server = Server::start(&[
+        "scenarios/demo.toml",
+        "--addr",
+        "127.0.0.1:0",
+        "--paused",
+        "--foxglove",
+        "127.0.0.1:0",
+        "--allow-origin",
+        "https://tool.example",
+    ]);
+    let fox = foxglove_addr(&server.next_line());
+    let port = fox.rsplit(':').next().expect("port");
+    for host in [format!("evil.example:{port}"), server.addr.clone()] {
+        let line = http_status(&fox, "/", &host, None);
+        assert!(line.contains(" 403 "), "{host}: {line}");
+    }
+    for origin in [
+        None,
+        Some("https://app.foxglove.dev"),
+        Some("https://tool.example"),
+    ] {
+        let line = http_status(&fox, "/", &fox, origin);
+        assert!(line.contains(" 400 "), "{origin:?}: {line}");
+    }
+    let line = http_status(&fox, "/", &fox, Some("https://evil.example"));
+    assert!(line.contains(" 403 "), "{line}");
+    let (code, _, err) = vitro(&["view", "scenarios/demo.toml", "--allow-origin", "x"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--allow-origin"), "{err}");
+    // A recording is opened in Foxglove as a file, not served.
+    let (code, _, err) = vitro(&["view", "run.mcap", "--foxglove", "127.0.0.1:0"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--foxglove"), "{err}");
 }

@@ -10,6 +10,8 @@
 //! - [`Recorder`] writes a run to MCAP frame by frame: lossless `/vitro/scene` and
 //!   `/vitro/frame` channels, and Foxglove channels (3D scene, transforms, GNSS fixes for the
 //!   Map panel, logs, metrics) that Foxglove Studio opens as they are ([`recorder`] lists them).
+//! - [`channels`] defines those channels and encodes a scene's and a frame's messages for
+//!   them, for the recorder and for a live Foxglove server alike.
 //! - [`Replay`] reads a recording back: the scene, the frame count and time range, any frame
 //!   by index or simulated time.
 //! - [`kml`] writes entity tracks for Google Earth.
@@ -36,6 +38,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod channels;
 pub mod draw;
 mod error;
 mod finite;
@@ -49,6 +52,7 @@ pub mod replay;
 pub mod schema;
 pub mod synthetic;
 
+pub use channels::Channel;
 pub use frame::{
     Building, Detection, EntityState, Frame, Geo, Heightmap, Intention, MessageEvent, Scene,
     SensorFootprint, Side,

@@ -1,6 +1,7 @@
 //! Writing a run to MCAP, frame by frame.
 //!
-//! A recording holds two kinds of channel (all JSON, schemas in [`crate::schema`]):
+//! A recording holds two kinds of channel (all JSON, schemas in [`crate::schema`]; the
+//! channels and their messages are [`crate::channels`]'s, which a live Foxglove server shares):
 //!
 //! | topic | schema | messages |
 //! |---|---|---|
@@ -36,42 +37,16 @@
 //! and `mcap recover` (the MCAP CLI) rewrites such a file with its summary. Call
 //! [`Recorder::flush`] to close the chunk early at a point that must survive.
 
-use crate::draw;
+pub use crate::channels::topic;
+use crate::channels::{Channel, frame_messages, scene_messages};
 pub use crate::error::RecordError;
 use crate::frame::{Frame, Geo, Scene};
 use crate::schema;
 use mcap::records::{MessageHeader, Metadata};
-use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{BufWriter, Seek, Write};
 use std::path::Path;
-
-/// Topic names of a recording.
-pub mod topic {
-    /// The lossless [`Scene`](crate::Scene).
-    pub const SCENE: &str = "/vitro/scene";
-    /// The lossless [`Frame`](crate::Frame)s.
-    pub const FRAME: &str = "/vitro/frame";
-    /// The static map (`foxglove.SceneUpdate`).
-    pub const MAP: &str = "/map";
-    /// Entities (`foxglove.SceneUpdate`).
-    pub const ENTITIES: &str = "/entities";
-    /// Detections (`foxglove.SceneUpdate`).
-    pub const DETECTIONS: &str = "/detections";
-    /// Intentions and paths (`foxglove.SceneUpdate`).
-    pub const INTENTIONS: &str = "/intentions";
-    /// Sensor footprints (`foxglove.SceneUpdate`).
-    pub const SENSORS: &str = "/sensors";
-    /// Entity poses (`foxglove.FrameTransforms`).
-    pub const TF: &str = "/tf";
-    /// Messages and log lines (`foxglove.Log`).
-    pub const LOG: &str = "/log";
-    /// Metrics (`vitro.Metrics`).
-    pub const METRICS: &str = "/metrics";
-    /// Prefix of the per-entity GNSS channels (`foxglove.LocationFix`): `/gps/NAME`.
-    pub const GPS_PREFIX: &str = "/gps/";
-}
 
 /// How a recording is written.
 #[derive(Clone, Debug, PartialEq)]
@@ -106,25 +81,13 @@ pub struct RecordStats {
     pub payload_bytes: u64,
 }
 
-/// Channel ids of an open recording.
-#[derive(Debug)]
+/// MCAP channel ids of an open recording, by channel (a `/gps/NAME` added when its entity
+/// first appears).
+#[derive(Debug, Default)]
 struct Channels {
-    frame: u16,
-    foxglove: Option<FoxgloveChannels>,
-}
-
-#[derive(Debug)]
-struct FoxgloveChannels {
-    entities: u16,
-    detections: u16,
-    intentions: u16,
-    sensors: u16,
-    tf: u16,
-    log: u16,
-    metrics: u16,
+    ids: BTreeMap<Channel, u16>,
+    /// The `foxglove.LocationFix` schema, for the `/gps/NAME` channels.
     location_schema: u16,
-    /// Entity id → its `/gps/NAME` channel, added when the entity first appears.
-    gps: BTreeMap<u32, u16>,
 }
 
 /// Writes a run to an MCAP file: the scene once, then a frame at a time.
@@ -146,6 +109,7 @@ struct FoxgloveChannels {
 pub struct Recorder<W: Write + Seek> {
     mcap: mcap::Writer<W>,
     channels: Channels,
+    foxglove: bool,
     geo: Geo,
     last_t: Option<u64>,
     sequence: u32,
@@ -184,33 +148,19 @@ impl<W: Write + Seek> Recorder<W> {
             .compression_threads(0)
             .library(format!("vitro-record {}", env!("CARGO_PKG_VERSION")));
         let mut mcap = mcap_options.create(out)?;
-        let mut add = |topic: &str, schema_name: &str| -> Result<u16, RecordError> {
-            let text = schema::schema_text(schema_name).unwrap_or_default();
-            let schema = mcap.add_schema(schema_name, "jsonschema", text.as_bytes())?;
-            Ok(mcap.add_channel(schema, topic, "json", &BTreeMap::new())?)
-        };
-        let scene_channel = add(topic::SCENE, schema::VITRO_SCENE)?;
-        let frame = add(topic::FRAME, schema::VITRO_FRAME)?;
-        let (map, foxglove) = if options.foxglove {
-            let map = add(topic::MAP, schema::SCENE_UPDATE)?;
-            let channels = FoxgloveChannels {
-                entities: add(topic::ENTITIES, schema::SCENE_UPDATE)?,
-                detections: add(topic::DETECTIONS, schema::SCENE_UPDATE)?,
-                intentions: add(topic::INTENTIONS, schema::SCENE_UPDATE)?,
-                sensors: add(topic::SENSORS, schema::SCENE_UPDATE)?,
-                tf: add(topic::TF, schema::FRAME_TRANSFORMS)?,
-                log: add(topic::LOG, schema::LOG)?,
-                metrics: add(topic::METRICS, schema::VITRO_METRICS)?,
-                location_schema: {
-                    let text = schema::schema_text(schema::LOCATION_FIX).unwrap_or_default();
-                    mcap.add_schema(schema::LOCATION_FIX, "jsonschema", text.as_bytes())?
-                },
-                gps: BTreeMap::new(),
-            };
-            (Some(map), Some(channels))
-        } else {
-            (None, None)
-        };
+        let mut channels = Channels::default();
+        for channel in Channel::FIXED {
+            if !(options.foxglove || channel.is_lossless()) {
+                continue;
+            }
+            let id = add_channel(&mut mcap, &channel)?;
+            channels.ids.insert(channel, id);
+        }
+        if options.foxglove {
+            let text = schema::schema_text(schema::LOCATION_FIX).unwrap_or_default();
+            channels.location_schema =
+                mcap.add_schema(schema::LOCATION_FIX, "jsonschema", text.as_bytes())?;
+        }
         mcap.write_metadata(&Metadata {
             name: "vitro".to_owned(),
             metadata: BTreeMap::from([
@@ -227,37 +177,34 @@ impl<W: Write + Seek> Recorder<W> {
         })?;
         let mut rec = Self {
             mcap,
-            channels: Channels { frame, foxglove },
+            channels,
+            foxglove: options.foxglove,
             geo: scene.geo,
             last_t: None,
             sequence: 0,
             stats: RecordStats::default(),
             buf: Vec::with_capacity(64 << 10),
         };
-        rec.put(scene_channel, 0, scene)?;
-        if let Some(map) = map {
-            rec.put(map, 0, &draw::map_update(scene))?;
-        }
+        let Self {
+            mcap,
+            channels,
+            sequence,
+            stats,
+            buf,
+            ..
+        } = &mut rec;
+        scene_messages(
+            scene,
+            |c| channels.ids.contains_key(c),
+            buf,
+            |c, t, json| {
+                let id = channels.ids[c];
+                put(mcap, sequence, stats, id, t, json)
+            },
+        )?;
         // The scene in a closed chunk of its own: a run killed at any point keeps it.
         rec.mcap.flush()?;
         Ok(rec)
-    }
-
-    /// Encodes `value` as JSON and writes it on `channel` at simulated time `t_ns`.
-    fn put(&mut self, channel: u16, t_ns: u64, value: &impl Serialize) -> Result<(), RecordError> {
-        self.buf.clear();
-        serde_json::to_writer(&mut self.buf, value)?;
-        self.sequence = self.sequence.wrapping_add(1);
-        let header = MessageHeader {
-            channel_id: channel,
-            sequence: self.sequence,
-            log_time: t_ns,
-            publish_time: t_ns,
-        };
-        self.mcap.write_to_known_channel(&header, &self.buf)?;
-        self.stats.messages += 1;
-        self.stats.payload_bytes += self.buf.len() as u64;
-        Ok(())
     }
 
     /// Records one frame. Frames come in time order; a rejected frame writes nothing.
@@ -269,51 +216,42 @@ impl<W: Write + Seek> Recorder<W> {
             });
         }
         crate::finite::check_frame(frame)?;
-        let t = frame.t_ns;
-        self.put(self.channels.frame, t, frame)?;
-        if self.channels.foxglove.is_some() {
-            self.foxglove(frame)?;
-        }
-        self.last_t = Some(t);
+        let Self {
+            mcap,
+            channels,
+            foxglove,
+            geo,
+            sequence,
+            stats,
+            buf,
+            ..
+        } = self;
+        let foxglove = *foxglove;
+        frame_messages(
+            geo,
+            frame,
+            |c| foxglove || c.is_lossless(),
+            buf,
+            |c, t, json| {
+                let id = match channels.ids.get(c) {
+                    Some(&id) => id,
+                    None => {
+                        let id = mcap.add_channel(
+                            channels.location_schema,
+                            &c.topic(),
+                            "json",
+                            &BTreeMap::new(),
+                        )?;
+                        channels.ids.insert(c.clone(), id);
+                        id
+                    }
+                };
+                put(mcap, sequence, stats, id, t, json)
+            },
+        )?;
+        self.last_t = Some(frame.t_ns);
         self.stats.frames += 1;
         Ok(())
-    }
-
-    /// Writes a frame's Foxglove channels.
-    fn foxglove(&mut self, frame: &Frame) -> Result<(), RecordError> {
-        let Some(fx) = self.channels.foxglove.as_mut() else {
-            return Ok(());
-        };
-        for e in &frame.entities {
-            if !fx.gps.contains_key(&e.id) {
-                let topic = format!("{}{}", topic::GPS_PREFIX, topic_safe(&e.name));
-                let id =
-                    self.mcap
-                        .add_channel(fx.location_schema, &topic, "json", &BTreeMap::new())?;
-                fx.gps.insert(e.id, id);
-            }
-        }
-        let (entities, detections, intentions, sensors) =
-            (fx.entities, fx.detections, fx.intentions, fx.sensors);
-        let (tf, log, metrics) = (fx.tf, fx.log, fx.metrics);
-        let gps: Vec<u16> = frame.entities.iter().map(|e| fx.gps[&e.id]).collect();
-        let t = frame.t_ns;
-        self.put(entities, t, &draw::entities_update(frame))?;
-        self.put(detections, t, &draw::detections_update(frame))?;
-        self.put(intentions, t, &draw::intentions_update(frame))?;
-        self.put(sensors, t, &draw::sensors_update(frame))?;
-        self.put(tf, t, &draw::transforms(frame))?;
-        for (e, channel) in frame.entities.iter().zip(gps) {
-            let fix = draw::location_fix(&self.geo, t, e);
-            self.put(channel, t, &fix)?;
-        }
-        for (at, line) in draw::logs(frame) {
-            self.put(log, at, &line)?;
-        }
-        let mut values: BTreeMap<&str, f64> = BTreeMap::new();
-        values.insert("events", frame.events as f64);
-        values.extend(frame.metrics.iter().map(|(k, &v)| (k.as_str(), v)));
-        self.put(metrics, t, &values)
     }
 
     /// Closes the open chunk and flushes the output: what was recorded so far survives a kill.
@@ -336,19 +274,37 @@ impl<W: Write + Seek> Recorder<W> {
     }
 }
 
-/// A name made safe for a topic: letters, digits, `_`, `-` and `.` kept, the rest `_`.
-fn topic_safe(name: &str) -> String {
-    let s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.') {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    if s.is_empty() { "_".to_owned() } else { s }
+/// Adds `channel` (and its schema) to a recording.
+fn add_channel<W: Write + Seek>(
+    mcap: &mut mcap::Writer<W>,
+    channel: &Channel,
+) -> Result<u16, RecordError> {
+    let name = channel.schema();
+    let text = schema::schema_text(name).unwrap_or_default();
+    let schema = mcap.add_schema(name, "jsonschema", text.as_bytes())?;
+    Ok(mcap.add_channel(schema, &channel.topic(), "json", &BTreeMap::new())?)
+}
+
+/// Writes one JSON message on MCAP channel `id` at simulated time `t_ns`.
+fn put<W: Write + Seek>(
+    mcap: &mut mcap::Writer<W>,
+    sequence: &mut u32,
+    stats: &mut RecordStats,
+    id: u16,
+    t_ns: u64,
+    json: &[u8],
+) -> Result<(), RecordError> {
+    *sequence = sequence.wrapping_add(1);
+    let header = MessageHeader {
+        channel_id: id,
+        sequence: *sequence,
+        log_time: t_ns,
+        publish_time: t_ns,
+    };
+    mcap.write_to_known_channel(&header, json)?;
+    stats.messages += 1;
+    stats.payload_bytes += json.len() as u64;
+    Ok(())
 }
 
 #[cfg(test)]
@@ -356,13 +312,6 @@ mod tests {
     use super::*;
     use crate::synthetic;
     use std::io::Cursor;
-
-    #[test]
-    fn topics_keep_safe_names_only() {
-        assert_eq!(topic_safe("blue-1"), "blue-1");
-        assert_eq!(topic_safe("red 2/ä"), "red_2__");
-        assert_eq!(topic_safe(""), "_");
-    }
 
     #[test]
     fn frames_out_of_order_or_not_finite_are_rejected_and_write_nothing() {

@@ -5,7 +5,8 @@
 //! name that site. The server therefore answers only to requests whose `Host` is this machine:
 //! a loopback name (`localhost`, `*.localhost`, `127.0.0.0/8`, `[::1]`) or the exact address it
 //! is bound to, with the port it listens on, or a name given on purpose
-//! ([`HostPolicy::allow`]); an `Origin`, when sent, must name such a host as well, and
+//! ([`HostPolicy::allow`]); an `Origin`, when sent, must name such a host as well, or be an
+//! origin allowed on purpose ([`HostPolicy::allow_origin`], e.g. the Foxglove web app's), and
 //! `Origin: null` (a sandboxed or local page) is refused.
 
 use std::net::{IpAddr, SocketAddr};
@@ -15,6 +16,7 @@ use std::net::{IpAddr, SocketAddr};
 pub struct HostPolicy {
     bound: SocketAddr,
     allowed: Vec<Allowed>,
+    origins: Vec<String>,
 }
 
 /// A name allowed on purpose: with a port, only that port; without, any port.
@@ -30,7 +32,17 @@ impl HostPolicy {
         Self {
             bound,
             allowed: Vec::new(),
+            origins: Vec::new(),
         }
+    }
+
+    /// Also answers requests sent from pages of `origin` (`https://app.foxglove.dev`, compared
+    /// exactly, case aside), their `Host` still checked: a client application served from
+    /// elsewhere that connects to this machine on purpose.
+    pub fn allow_origin(mut self, origin: &str) -> Self {
+        self.origins
+            .push(origin.trim_end_matches('/').to_ascii_lowercase());
+        self
     }
 
     /// Also answers to `name` (`viewer.example` on any port, `viewer.example:8443` on that
@@ -61,7 +73,10 @@ impl HostPolicy {
         }
         match origin {
             None => true,
-            Some(o) => std::str::from_utf8(o).is_ok_and(|o| self.origin_ok(o)),
+            Some(o) => std::str::from_utf8(o).is_ok_and(|o| {
+                let exact = o.trim_end_matches('/').to_ascii_lowercase();
+                self.origins.contains(&exact) || self.origin_ok(o)
+            }),
         }
     }
 
@@ -222,6 +237,20 @@ mod tests {
         ));
         assert!(!ok(&p, "other.example:8080", None));
         assert!(!ok(&p, "evil.example:8080", None));
+        let p = policy().allow_origin("https://App.Foxglove.dev");
+        assert!(ok(&p, "localhost:8080", Some("https://app.foxglove.dev")));
+        assert!(ok(&p, "localhost:8080", Some("https://app.foxglove.dev/")));
+        assert!(!ok(
+            &p,
+            "evil.example:8080",
+            Some("https://app.foxglove.dev")
+        ));
+        assert!(!ok(
+            &p,
+            "localhost:8080",
+            Some("https://app.foxglove.dev.evil.example")
+        ));
+        assert!(!ok(&p, "localhost:8080", Some("null")));
         for bad in ["", "a b", "x:port", "a/b", "[::1"] {
             assert!(policy().allow(bad).is_err(), "{bad}");
         }

@@ -9,6 +9,8 @@
 //!   trait so this crate knows no model) runs on its own thread, paced; viewers pause, step
 //!   and change its speed through its [`Control`](vitro::sim::Control) handle and never
 //!   slow it down or change its trace.
+//! - **Foxglove** (`foxglove`, feature `foxglove`): the same live run over the Foxglove
+//!   WebSocket protocol, with the channels of a recording, for the Foxglove app.
 //! - **Replay** ([`replay`]): a [`Recording`] (a Vitro MCAP file: [`McapRecording`])
 //!   played back, each browser tab with its own playhead (play, pause, step, seek).
 //!
@@ -24,6 +26,8 @@
 
 pub mod assets;
 mod error;
+#[cfg(feature = "foxglove")]
+pub mod foxglove;
 pub mod hosts;
 pub mod live;
 pub mod protocol;
@@ -32,5 +36,5 @@ pub mod server;
 
 pub use error::ViewError;
 pub use hosts::{BadHostName, HostPolicy};
-pub use live::{LiveRun, LiveSource, Outcome, SourceError, advance_sim};
+pub use live::{LiveRun, LiveSource, Outcome, Published, SourceError, advance_sim};
 pub use replay::{McapRecording, MemoryRecording, Recording, ReplayFeed};

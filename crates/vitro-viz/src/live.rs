@@ -2,13 +2,16 @@
 //!
 //! The simulation thread never waits for a viewer. It runs in slices (about one frame of wall
 //! time each), publishes the latest frame into a [`watch`] channel (each client picks up
-//! the newest when it is ready: latest frame wins) and goes on. Viewers act on the run only
+//! the newest when it is ready: latest frame wins) and goes on. The page's clients and the
+//! Foxglove server's read the same channel ([`Published`]: the frame and its page message). Viewers act on the run only
 //! through its [`Control`] handle, which changes *when* events fire in wall time, never
 //! *which*: the trace hash of a watched run is that of the unwatched one.
 
 pub use crate::error::SourceError;
 use crate::error::ViewError;
-use crate::protocol::{Command, CommandError, Hello, History, Mode, ServerMsg, Status};
+use crate::protocol::{
+    Command, CommandError, Hello, History, Mode, Status, frame_json, scene_json,
+};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
@@ -72,13 +75,23 @@ pub struct Outcome {
     pub stopped: bool,
 }
 
+/// A frame as the simulation thread publishes it.
+#[derive(Clone, Debug)]
+pub struct Published {
+    /// The frame.
+    pub frame: Arc<Frame>,
+    /// Its page message ([`ServerMsg::Frame`](crate::protocol::ServerMsg::Frame)), as JSON.
+    pub json: Arc<str>,
+}
+
 /// What the simulation thread shares with the server.
 struct Shared {
     control: Control,
     hello: Hello,
+    scene: Arc<Scene>,
     scene_json: Arc<str>,
     history: Mutex<History>,
-    frames: watch::Sender<Option<Arc<str>>>,
+    frames: watch::Sender<Option<Published>>,
     outcome: watch::Sender<Option<Outcome>>,
     quit: AtomicBool,
     /// How many times the run was interrupted (made to return from `advance`) so far.
@@ -170,6 +183,11 @@ impl LiveRun {
         self.shared.hello.clone()
     }
 
+    /// The static world.
+    pub fn scene(&self) -> Arc<Scene> {
+        self.shared.scene.clone()
+    }
+
     /// The scene message, as JSON.
     pub fn scene_json(&self) -> Arc<str> {
         self.shared.scene_json.clone()
@@ -180,8 +198,8 @@ impl LiveRun {
         lock(&self.shared.history).clone()
     }
 
-    /// The latest frame message (JSON), as it changes.
-    pub fn frames(&self) -> watch::Receiver<Option<Arc<str>>> {
+    /// The latest frame, as it changes.
+    pub fn frames(&self) -> watch::Receiver<Option<Published>> {
         self.shared.frames.subscribe()
     }
 
@@ -281,13 +299,12 @@ fn prepare<S: LiveSource>(
         start_ns: control.sim_time().as_nanos(),
         end_ns: source.end_ns(),
     };
-    let scene_json = ServerMsg::Scene {
-        scene: Box::new(source.scene()),
-    }
-    .to_json();
+    let scene = source.scene();
+    let scene_json = scene_json(&scene);
     let shared = Arc::new(Shared {
         control,
         hello,
+        scene: Arc::new(scene),
         scene_json: scene_json.into(),
         history: Mutex::new(History::default()),
         frames: watch::Sender::new(None),
@@ -395,9 +412,9 @@ fn watch_steps(shared: &Arc<Shared>, target: u64) {
 fn publish(source: &mut impl LiveSource, shared: &Shared, t_ns: u64) {
     let frame = source.frame(t_ns);
     lock(&shared.history).push(&frame);
-    let json = ServerMsg::Frame {
-        frame: Box::new(frame),
-    }
-    .to_json();
-    shared.frames.send_replace(Some(json.into()));
+    let json = frame_json(&frame);
+    shared.frames.send_replace(Some(Published {
+        frame: Arc::new(frame),
+        json: json.into(),
+    }));
 }

@@ -137,11 +137,37 @@ pub enum ServerMsg {
 impl ServerMsg {
     /// The message as JSON text.
     pub fn to_json(&self) -> String {
-        // Plain data with string keys: serialising it cannot fail.
-        serde_json::to_string(self).unwrap_or_else(|e| {
-            format!(r#"{{"type":"error","message":"cannot encode a message: {e}"}}"#)
-        })
+        to_json(self)
     }
+}
+
+/// The frame message for `frame`, as JSON text: what [`ServerMsg::Frame`] encodes to, without
+/// a copy of the frame.
+pub fn frame_json(frame: &Frame) -> String {
+    #[derive(Serialize)]
+    #[serde(tag = "type", rename = "frame")]
+    struct FrameMsg<'a> {
+        frame: &'a Frame,
+    }
+    to_json(&FrameMsg { frame })
+}
+
+/// The scene message for `scene`, as JSON text: what [`ServerMsg::Scene`] encodes to, without
+/// a copy of the scene.
+pub fn scene_json(scene: &Scene) -> String {
+    #[derive(Serialize)]
+    #[serde(tag = "type", rename = "scene")]
+    struct SceneMsg<'a> {
+        scene: &'a Scene,
+    }
+    to_json(&SceneMsg { scene })
+}
+
+fn to_json(msg: &impl Serialize) -> String {
+    // Plain data with string keys: serialising it cannot fail.
+    serde_json::to_string(msg).unwrap_or_else(|e| {
+        format!(r#"{{"type":"error","message":"cannot encode a message: {e}"}}"#)
+    })
 }
 
 /// A command from the client.
@@ -202,7 +228,13 @@ impl Command {
         }
         let cmd: Command =
             serde_json::from_str(text).map_err(|e| CommandError::Malformed(e.to_string()))?;
-        match cmd {
+        cmd.check()
+    }
+
+    /// This command if its values are in range (a step of 1 to [`MAX_STEP`] events, a speed
+    /// within [`SPEED_RANGE`]).
+    pub fn check(self) -> Result<Command, CommandError> {
+        match self {
             Command::Step { n } if !(1..=MAX_STEP).contains(&n) => Err(CommandError::OutOfRange(
                 format!("step n = {n}: expected 1 to {MAX_STEP}"),
             )),
@@ -251,6 +283,23 @@ mod tests {
             Command::parse(&long),
             Err(CommandError::TooLong(_))
         ));
+    }
+
+    #[test]
+    fn frame_and_scene_json_are_their_messages() {
+        let frame = Frame {
+            t_ns: 7,
+            ..Frame::default()
+        };
+        let msg = ServerMsg::Frame {
+            frame: Box::new(frame.clone()),
+        };
+        assert_eq!(frame_json(&frame), msg.to_json());
+        let scene = vitro_record::synthetic::scene();
+        let msg = ServerMsg::Scene {
+            scene: Box::new(scene.clone()),
+        };
+        assert_eq!(scene_json(&scene), msg.to_json());
     }
 
     #[test]

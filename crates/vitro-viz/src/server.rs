@@ -77,7 +77,11 @@ pub async fn serve_with(
 }
 
 /// Passes on a request whose `Host` and `Origin` `hosts` permits; answers 403 to any other.
-async fn guard(State(hosts): State<HostPolicy>, request: Request, next: Next) -> Response {
+pub(crate) async fn guard(
+    State(hosts): State<HostPolicy>,
+    request: Request,
+    next: Next,
+) -> Response {
     let headers = request.headers();
     let host = headers.get(header::HOST).map(|h| h.as_bytes());
     let origin = headers.get(header::ORIGIN).map(|o| o.as_bytes());
@@ -189,8 +193,8 @@ async fn live_client(mut socket: WebSocket, run: LiveRun) -> Result<(), Gone> {
                     return Err(Gone);
                 }
                 let latest = frames.borrow_and_update().clone();
-                if let Some(json) = latest {
-                    send(&mut socket, &*json).await?;
+                if let Some(latest) = latest {
+                    send(&mut socket, &*latest.json).await?;
                 }
             }
             _ = status.tick() => send_status(&mut socket, run.status()).await?,
