@@ -1,7 +1,8 @@
 //! CVRPLIB's TSPLIB-style `.vrp` files (`EDGE_WEIGHT_TYPE : EUC_2D`).
 
 use super::lex::{
-    ParseError, Token, expected, expected_at_end, expected_eof, nth, number, tokens, unsigned,
+    MAX_NODES, ParseError, Token, expected, expected_at_end, expected_eof, nth, number, tokens,
+    unsigned,
 };
 use crate::{Instance, Metric, Node};
 
@@ -173,12 +174,12 @@ impl Headers {
                 if d < 1 {
                     return Err(invalid(&tok, "DIMENSION must count the depot".to_string()));
                 }
-                if d > super::MAX_NODES as u64 {
+                if d > MAX_NODES as u64 {
                     return Err(invalid(
                         &tok,
                         format!(
                             "DIMENSION {d} is more than the {} nodes the solvers take",
-                            super::MAX_NODES
+                            MAX_NODES
                         ),
                     ));
                 }

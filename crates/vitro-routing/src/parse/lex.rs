@@ -1,5 +1,10 @@
 //! The readers' shared pieces: tokens with their positions, and the errors they make.
 
+/// The most nodes (depot included) an instance may have: every solver works on the full
+/// distance matrix, `MAX_NODES²` numbers (800 MB here). A file that asks for more is refused
+/// with its line and column instead of running out of memory.
+pub const MAX_NODES: usize = 10_000;
+
 /// Why a text is not a valid instance.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]

@@ -8,13 +8,8 @@ mod lex;
 mod solomon;
 
 pub use cvrplib::parse_cvrplib;
-pub use lex::ParseError;
+pub use lex::{MAX_NODES, ParseError};
 pub use solomon::parse_solomon;
-
-/// The most nodes (depot included) an instance may have: every solver works on the full
-/// distance matrix, `MAX_NODES²` numbers (800 MB here). A file that asks for more is refused
-/// with its line and column instead of running out of memory.
-pub const MAX_NODES: usize = 10_000;
 
 use crate::Instance;
 

@@ -1,6 +1,8 @@
 //! Solomon's VRPTW files (and the Homberger–Gehring ones, which share the layout).
 
-use super::lex::{ParseError, Token, expected, expected_eof, nth, number, tokens, unsigned};
+use super::lex::{
+    MAX_NODES, ParseError, Token, expected, expected_eof, nth, number, tokens, unsigned,
+};
 use crate::{Instance, Metric, Node};
 
 /// Reads a Solomon instance:
@@ -54,11 +56,11 @@ pub fn parse_solomon(text: &str) -> Result<Instance, ParseError> {
     for (ln, line) in lines {
         let t = tokens(line, ln);
         let no = unsigned(&t[0], "a customer number")?;
-        if nodes.len() >= super::MAX_NODES {
+        if nodes.len() >= MAX_NODES {
             return Err(ParseError::Invalid {
                 line: ln,
                 column: t[0].column,
-                message: format!("more than the {} nodes the solvers take", super::MAX_NODES),
+                message: format!("more than the {} nodes the solvers take", MAX_NODES),
             });
         }
         if no != nodes.len() as u64 {
