@@ -56,10 +56,6 @@ impl vitro_mission::Mission for Evacuation {
         "a convoy fetches a VIP through a town held by red units"
     }
 
-    fn fidelity_levels(&self) -> &'static [&'static str] {
-        &Preset::NAMES
-    }
-
     fn validate(&self, path: &Path, text: &str) -> Result<String, vitro_mission::MissionError> {
         let v = validated(path, text, None)?;
         let f = &v.loaded.file;
@@ -88,6 +84,10 @@ impl vitro_mission::Mission for Evacuation {
         let v = validated(path, text, options.fidelity.as_deref())?;
         let mission = Mission::build(v, options.seed).map_err(mission_error)?;
         Ok(Box::new(mission))
+    }
+
+    fn fidelity_levels(&self) -> &'static [&'static str] {
+        &Preset::NAMES
     }
 
     fn metric_names(&self) -> Vec<&'static str> {

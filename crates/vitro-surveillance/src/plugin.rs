@@ -37,10 +37,6 @@ impl vitro_mission::Mission for Surveillance {
         "a UAV team shares out search sectors by contract net, finds and tracks red units"
     }
 
-    fn fidelity_levels(&self) -> &'static [&'static str] {
-        &Preset::NAMES
-    }
-
     fn validate(&self, path: &Path, text: &str) -> Result<String, MissionError> {
         let v =
             scenario::validate_text(path, text).map_err(|d| MissionError::Scenario(d.report()))?;
@@ -74,6 +70,10 @@ impl vitro_mission::Mission for Surveillance {
             .map_err(|e| MissionError::Scenario(e.to_string()))?;
         let run = Operation::from_text(path, text, options.seed, preset).map_err(mission_error)?;
         Ok(Box::new(run))
+    }
+
+    fn fidelity_levels(&self) -> &'static [&'static str] {
+        &Preset::NAMES
     }
 
     fn metric_names(&self) -> Vec<&'static str> {
