@@ -132,6 +132,13 @@ impl Play for Scenario {
         }
     }
 
+    /// The town's size: junctions, streets and cars.
+    fn world(run: &DemoRun) -> u64 {
+        let streets = run.sim.env().streets();
+        let size = [streets.node_count(), streets.edge_count(), run.cars().len()];
+        size.iter().fold(0, |h, &n| h.rotate_left(21) ^ n as u64)
+    }
+
     fn save(run: &DemoRun) -> Result<Vec<u8>, SnapshotError> {
         snapshot::save(run)
     }

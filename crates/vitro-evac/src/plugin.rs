@@ -181,6 +181,10 @@ impl Play for Mission {
         std::mem::take(&mut run.referee.log)
     }
 
+    fn world(run: &EvacRun) -> u64 {
+        snapshot::world(&run.brief)
+    }
+
     fn save(run: &EvacRun) -> Result<Vec<u8>, SnapshotError> {
         snapshot::save(run)
     }

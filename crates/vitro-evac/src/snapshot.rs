@@ -41,7 +41,6 @@ vitro_mission::agent_kinds! { Box<dyn Controller<Evac>>:
 /// An evacuation's state, borrowed (written).
 #[derive(Serialize)]
 struct StateRef<'a> {
-    world: u64,
     sim: SimStateRef<'a, ArenaStateRef<'a>, AgentRef<'a>, Ev, Radio>,
     referee: &'a Referee,
 }
@@ -49,14 +48,13 @@ struct StateRef<'a> {
 /// An evacuation's state, read back.
 #[derive(Deserialize)]
 struct State {
-    world: u64,
     sim: SimState<ArenaState, AgentOwned, Ev, Radio>,
     referee: Referee,
 }
 
 /// The digest of what a run rebuilds from its scenario rather than saves: the site and the
 /// formation program.
-fn world_digest(brief: &Brief) -> u64 {
+pub(crate) fn world(brief: &Brief) -> u64 {
     site_digest(&brief.site) ^ stable_str_hash(&brief.formation.program).rotate_left(1)
 }
 
@@ -68,7 +66,6 @@ fn corrupt(e: impl std::fmt::Display) -> SnapshotError {
 /// briefings, which a restore takes from a fresh build.
 pub(crate) fn save(run: &EvacRun) -> Result<Vec<u8>, SnapshotError> {
     let state = StateRef {
-        world: world_digest(&run.brief),
         sim: run.sim.save_state(run.sim.env().state(), agent_ref)?,
         referee: &run.referee,
     };
@@ -76,7 +73,7 @@ pub(crate) fn save(run: &EvacRun) -> Result<Vec<u8>, SnapshotError> {
 }
 
 /// Puts the referee of `bytes` into `run` (a fresh build of the same scenario) and returns
-/// its simulation; [`SnapshotError::Mismatch`] if the site or program changed.
+/// its simulation.
 pub(crate) fn restore(run: &mut EvacRun, bytes: &[u8]) -> Result<Simulation<Evac>, SnapshotError> {
     let game = run.members.iter().find_map(|m| {
         let a = (**run.sim.agent(m.id)?)
@@ -88,11 +85,6 @@ pub(crate) fn restore(run: &mut EvacRun, bytes: &[u8]) -> Result<Simulation<Evac
         let _shared = Restoring::new().with(run.brief.clone()).with_some(game);
         postcard::from_bytes(bytes).map_err(corrupt)?
     };
-    if state.world != world_digest(&run.brief) {
-        return Err(SnapshotError::Mismatch(
-            "the map, terrain or formation program the scenario names changed since the run was saved".into(),
-        ));
-    }
     let env = run.sim.env();
     let sim = Simulation::restore_state(state.sim, |a| env.rebuilt(a).map_err(corrupt), agent_box)?;
     run.referee = state.referee;

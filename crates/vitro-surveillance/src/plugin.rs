@@ -14,6 +14,7 @@ use vitro_mission::{
     BuildOptions, Metric, MetricTable, MissionError, Run, SnapshotError, metric_table,
 };
 use vitro_record::{Frame, Scene};
+use vitro_tactical::arena::site_digest;
 use vitro_tactical::scenario::Preset;
 
 /// The surveillance mission, registered as `kind = "surveillance"`.
@@ -136,6 +137,10 @@ impl Play for Operation {
             .collect();
         out.insert("levels".into(), levels.into());
         out
+    }
+
+    fn world(run: &SurveillanceRun) -> u64 {
+        site_digest(&run.team.site)
     }
 
     fn save(run: &SurveillanceRun) -> Result<Vec<u8>, SnapshotError> {

@@ -21,7 +21,7 @@ use vitro::sim::{SimState, SimStateRef, Simulation};
 use vitro::time::SimTime;
 use vitro_mission::SnapshotError;
 use vitro_mission::snapshot::briefed::Restoring;
-use vitro_tactical::arena::{ArenaState, ArenaStateRef, Ev, site_digest};
+use vitro_tactical::arena::{ArenaState, ArenaStateRef, Ev};
 use vitro_tactical::model::Controller;
 
 vitro_mission::agent_kinds! { Box<dyn Controller<Field>>:
@@ -42,7 +42,6 @@ struct Losses {
 /// A surveillance run's state, borrowed (written).
 #[derive(Serialize)]
 struct StateRef<'a> {
-    world: u64,
     sim: SimStateRef<'a, ArenaStateRef<'a>, AgentRef<'a>, Ev, Net>,
     losses: Losses,
 }
@@ -50,7 +49,6 @@ struct StateRef<'a> {
 /// A surveillance run's state, read back.
 #[derive(Deserialize)]
 struct State {
-    world: u64,
     sim: SimState<ArenaState, AgentOwned, Ev, Net>,
     losses: Losses,
 }
@@ -63,7 +61,6 @@ fn corrupt(e: impl std::fmt::Display) -> SnapshotError {
 /// briefings, which a restore takes from a fresh build.
 pub(crate) fn save(run: &SurveillanceRun) -> Result<Vec<u8>, SnapshotError> {
     let state = StateRef {
-        world: site_digest(&run.team.site),
         sim: run.sim.save_state(run.sim.env().state(), agent_ref)?,
         losses: Losses {
             lost: run.lost.clone(),
@@ -76,7 +73,7 @@ pub(crate) fn save(run: &SurveillanceRun) -> Result<Vec<u8>, SnapshotError> {
 }
 
 /// Puts the losses of `bytes` into `run` (a fresh build of the same scenario) and returns its
-/// simulation; [`SnapshotError::Mismatch`] if the site changed.
+/// simulation.
 pub(crate) fn restore(
     run: &mut SurveillanceRun,
     bytes: &[u8],
@@ -92,11 +89,6 @@ pub(crate) fn restore(
             .with_some(red);
         postcard::from_bytes(bytes).map_err(corrupt)?
     };
-    if state.world != site_digest(&run.team.site) {
-        return Err(SnapshotError::Mismatch(
-            "the map or terrain the scenario names changed since the run was saved".into(),
-        ));
-    }
     let env = run.sim.env();
     let sim = Simulation::restore_state(state.sim, |a| env.rebuilt(a).map_err(corrupt), agent_box)?;
     let l = state.losses;

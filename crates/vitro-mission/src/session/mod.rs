@@ -13,7 +13,7 @@
 //! - where it may: its end condition ([`Play::over`], checked after every event), what it does
 //!   at each sample ([`Play::at_sample`]) or at a time of its own ([`Play::next_stop`],
 //!   [`Play::at_stop`]), its verdict, its log, and its state beside the simulation for
-//!   snapshots ([`Play::save`], [`Play::restore`]).
+//!   snapshots ([`Play::save`], [`Play::restore`], [`Play::world`]).
 //!
 //! A session dereferences to its play, so a mission's fields read as the run's
 //! (`run.referee`, `run.members`), and the play's hooks are given the whole session.
@@ -192,6 +192,13 @@ pub trait Play: Sized + 'static {
         let _ = run;
         Vec::new()
     }
+    /// A digest of what a run rebuilds from its scenario rather than saves (its site, its
+    /// programs, its town): a snapshot restores only onto a build with the same. By default
+    /// 0 (nothing checked).
+    fn world(run: &Session<Self>) -> u64 {
+        let _ = run;
+        0
+    }
     /// The mission's state as bytes: the simulation (without the static world) and the
     /// play's own fields; the session saves its own beside. By default the mission cannot
     /// save.
@@ -206,8 +213,8 @@ pub trait Play: Sized + 'static {
     /// listens to it and takes it.
     ///
     /// # Errors
-    /// [`SnapshotError::Corrupt`] if the state does not decode, [`SnapshotError::Mismatch`]
-    /// if the rebuilt world is not the one saved, [`SnapshotError::Unsupported`] by default.
+    /// [`SnapshotError::Corrupt`] if the state does not decode,
+    /// [`SnapshotError::Unsupported`] by default.
     fn restore(
         run: &mut Session<Self>,
         state: &[u8],

@@ -10,6 +10,7 @@ use vitro_record::{Frame, Scene};
 /// A session's saved state: the play's bytes ([`Play::save`]) and the session's own fields.
 #[derive(Serialize, Deserialize)]
 struct Saved<X> {
+    world: u64,
     play: Vec<u8>,
     heard: Heard<X>,
     next_sample: SimTime,
@@ -96,6 +97,7 @@ impl<P: Play> Run for Session<P> {
 
     fn save_state(&self) -> Result<Vec<u8>, SnapshotError> {
         let saved = Saved {
+            world: P::world(self),
             play: P::save(self)?,
             heard: self.heard().clone(),
             next_sample: self.next_sample,
@@ -108,6 +110,11 @@ impl<P: Play> Run for Session<P> {
 
     fn restore_state(&mut self, state: &[u8]) -> Result<(), SnapshotError> {
         let saved: Saved<P::Heard> = postcard::from_bytes(state).map_err(corrupt)?;
+        if saved.world != P::world(self) {
+            return Err(SnapshotError::Mismatch(
+                "what the scenario builds (its map, terrain, programs or town) changed since the run was saved".into(),
+            ));
+        }
         self.sim = P::restore(self, &saved.play)?;
         self.listen();
         {
