@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 use std::path::PathBuf;
 use vitro::entity::EntityId;
 use vitro::time::{SimDuration, SimTime};
+use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::external::{Command, SharedDesk, lock, target_points};
 use vitro_mission::{BuildOptions, Mission as _, RegistryError, Run};
@@ -20,7 +21,7 @@ const SLICE_S: f64 = 1.0;
 /// An evacuation run with externally driven units.
 #[pyclass(unsendable, module = "vitro._vitro")]
 pub struct EvacSim {
-    mission: Mission,
+    mission: EvacRun,
     desk: SharedDesk,
     agents: Vec<(String, EntityId)>,
     targets: Vec<[f64; 3]>,

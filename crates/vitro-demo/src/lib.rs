@@ -15,15 +15,13 @@
 //! let mut cfg = DemoConfig::parse("demo.toml", include_str!("../../../scenarios/demo.toml")).unwrap();
 //! cfg.end_s = 300.0;
 //! let mut run = Scenario::build(cfg.clone()).unwrap();
-//! run.run().unwrap();
-//! let m = run.metrics();
+//! let m = run.run();
 //! assert_eq!(m.sim_time_s, 300.0);
 //! assert!(m.visits > 0 && m.messages_sent > 0);
 //!
 //! // Same scenario, same seed: the same trace.
 //! let mut again = Scenario::build(cfg).unwrap();
-//! again.run().unwrap();
-//! assert_eq!(again.metrics().trace_hash, m.trace_hash);
+//! assert_eq!(again.run().trace_hash, m.trace_hash);
 //! ```
 
 pub mod config;
@@ -40,10 +38,12 @@ use patrol::Patroller;
 pub use plugin::PatrollingCars;
 use rand::Rng;
 use serde::{Serialize, Serializer};
+use std::collections::BTreeMap;
 use vitro::entity::{EntityError, EntityId};
 use vitro::event::ScheduleError;
 use vitro::prelude::*;
 use vitro::rng::{Owner, RngStreams};
+use vitro_mission::session::{Session, Setup};
 pub use world::Event;
 use world::Town;
 
@@ -71,19 +71,21 @@ pub enum DemoError {
     },
 }
 
-/// A built demo run: the simulation, its cars and its end time.
+/// A run of the demo: the generic run with the demo's own part, [`Scenario`].
+pub type DemoRun = Session<Scenario>;
+
+/// The demo's own part of a run: its configuration, its cars, and each car's last shown pose
+/// (the simulation, the settings and the advance loop are the [`Session`]'s).
 pub struct Scenario {
     cfg: DemoConfig,
-    sim: Simulation<Demo>,
     cars: Vec<EntityId>,
-    end: SimTime,
-    reached: SimTime,
-    stop: Option<StopReason>,
+    /// Each car's last shown position and time, for its heading and speed.
+    last: BTreeMap<u32, ([f64; 2], u64, f64)>,
 }
 
 impl Scenario {
     /// Builds the town, the network and the cars of `cfg` (which is validated first).
-    pub fn build(cfg: DemoConfig) -> Result<Self, DemoError> {
+    pub fn build(cfg: DemoConfig) -> Result<DemoRun, DemoError> {
         cfg.validate()?;
         let streams = RngStreams::new(cfg.seed);
         let streets = town::generate(&cfg.town, &mut streams.fresh(Owner::Global, "town"));
@@ -127,84 +129,44 @@ impl Scenario {
             cars.push(car);
         }
         sim.schedule(SimTime::ZERO, Target::Broadcast, Event::Start)?;
-        let end = SimTime::from_secs_f64(cfg.end_s);
-        Ok(Scenario {
-            cfg,
-            sim,
-            cars,
-            end,
-            reached: SimTime::ZERO,
-            stop: None,
-        })
+        let setup = Setup::from_secs(cfg.name.clone(), cfg.seed, cfg.end_s, 1.0, cfg.start);
+        let last = BTreeMap::new();
+        Ok(Session::new(setup, sim, Scenario { cfg, cars, last }))
     }
 
     /// The configuration it was built from.
     pub fn config(&self) -> &DemoConfig {
         &self.cfg
     }
-    /// The simulation (for its control handle, listeners, network...).
-    pub fn simulation(&self) -> &Simulation<Demo> {
-        &self.sim
-    }
-    /// The simulation, mutable (e.g. to add listeners before the run).
-    pub fn simulation_mut(&mut self) -> &mut Simulation<Demo> {
-        &mut self.sim
-    }
+
     /// The cars, in creation order.
     pub fn cars(&self) -> &[EntityId] {
         &self.cars
     }
-    /// When the run ends.
-    pub fn end(&self) -> SimTime {
-        self.end
-    }
-    /// The simulated time the run has reached (its metrics cover the run up to it).
-    pub fn reached(&self) -> SimTime {
-        self.reached
-    }
-    /// Moves the end time (e.g. a shorter run than the file says).
-    pub fn set_end(&mut self, end: SimTime) {
-        self.end = end;
-    }
 
-    /// Runs to the end time (paced if the control handle says so). An error if a car's
-    /// controller failed.
-    pub fn run(&mut self) -> Result<StopReason, DemoError> {
-        self.run_to(self.end)
-    }
-
-    /// Runs up to `until` (at most the end time); [`Scenario::metrics`] then covers the run
-    /// so far and a later call goes on from there. Running in steps changes nothing: the
-    /// trace is that of one [`Scenario::run`]. An error if a car's controller failed.
-    pub fn run_to(&mut self, until: SimTime) -> Result<StopReason, DemoError> {
-        let until = until.min(self.end);
-        let reason = self.sim.run_until(until);
-        self.reached = match reason {
-            StopReason::Time => until,
-            _ => self.sim.now(),
-        };
-        self.stop = Some(reason);
-        for &car in &self.cars {
-            if let Some(reason) = self.sim.agent(car).and_then(Patroller::failure) {
+    /// The first car whose controller failed, as an error.
+    fn failure(run: &DemoRun) -> Result<(), DemoError> {
+        for &car in &run.cars {
+            if let Some(reason) = run.sim.agent(car).and_then(Patroller::failure) {
                 return Err(DemoError::AgentFailed {
-                    car: self.sim.entities().name(car).unwrap_or("?").to_owned(),
-                    at: self.sim.now(),
+                    car: run.sim.entities().name(car).unwrap_or("?").to_owned(),
+                    at: run.sim.now(),
                     reason: reason.to_owned(),
                 });
             }
         }
-        Ok(reason)
+        Ok(())
     }
 
     /// The metrics of the run so far, observed up to the time it reached.
-    pub fn metrics(&self) -> Metrics {
-        let env = self.sim.env();
+    fn measure(run: &DemoRun) -> Metrics {
+        let env = run.sim.env();
         let n = env.streets().node_count();
-        let t = self.reached.as_nanos();
+        let t = run.reached().as_nanos();
         let (mut gap_sq, mut max_gap, mut visits) = (0u128, 0u64, 0u64);
         for i in 0..n {
             let log = env.visit_log(NodeId(i as u32));
-            let open = self.reached.saturating_since(log.last).as_nanos();
+            let open = run.reached().saturating_since(log.last).as_nanos();
             gap_sq += log.gap_sq + u128::from(open).pow(2);
             max_gap = max_gap.max(log.max_gap.as_nanos()).max(open);
             visits += log.visits;
@@ -216,14 +178,14 @@ impl Scenario {
             gap_sq as f64 / 2.0 / n as f64 / t as f64
         };
         let mut m = Metrics {
-            scenario: self.cfg.name.clone(),
-            seed: self.cfg.seed,
+            scenario: run.cfg.name.clone(),
+            seed: run.cfg.seed,
             junctions: n,
             streets: env.streets().edge_count() / 2,
-            cars: self.cars.len(),
-            stop: self.stop.map_or("not run", stop_name).to_owned(),
-            sim_time_s: self.reached.as_secs_f64(),
-            events: self.sim.events_fired(),
+            cars: run.cars.len(),
+            stop: run.stop().map_or("not run", stop_name).to_owned(),
+            sim_time_s: run.reached().as_secs_f64(),
+            events: run.sim.events_fired(),
             mean_idleness_s: mean_ns / 1e9,
             max_idleness_s: max_gap as f64 / 1e9,
             visits,
@@ -234,15 +196,15 @@ impl Scenario {
             messages_received: 0,
             messages_lost: 0,
             messages_bounced: 0,
-            trace_hash: self.sim.trace_hash(),
+            trace_hash: run.sim.trace_hash(),
         };
-        for (_, _, c) in self.sim.network().all_counts() {
+        for (_, _, c) in run.sim.network().all_counts() {
             m.messages_sent += c.sent;
             m.messages_received += c.received;
             m.messages_lost += c.lost;
             m.messages_bounced += c.bounced;
         }
-        for s in self.cars.iter().filter_map(|&c| self.sim.agent(c)) {
+        for s in run.cars.iter().filter_map(|&c| run.sim.agent(c)) {
             let s = s.stats();
             m.decisions += s.decisions;
             m.goals_reached += s.goals_reached;
@@ -320,8 +282,9 @@ mod tests {
 
     fn run(cfg: DemoConfig) -> Metrics {
         let mut s = Scenario::build(cfg).unwrap();
-        assert_eq!(s.run().unwrap(), StopReason::Time);
-        s.metrics()
+        let m = s.run();
+        assert_eq!(s.stop(), Some(StopReason::Time));
+        m
     }
 
     #[test]
@@ -399,8 +362,8 @@ mod tests {
         first.sim.save_snapshot(&mut bytes).unwrap();
         let mut resumed = Scenario::build(c).unwrap();
         resumed.sim = Simulation::load_snapshot(bytes.as_slice()).unwrap();
-        assert_eq!(resumed.run().unwrap(), StopReason::Time);
-        assert_eq!(resumed.metrics(), whole);
+        assert_eq!(resumed.run(), whole);
+        assert_eq!(resumed.stop(), Some(StopReason::Time));
     }
 
     #[test]
@@ -411,7 +374,7 @@ mod tests {
         let mut s = Scenario::build(c).unwrap();
         let mut last = 0.0;
         for t in [100, 250, 600, 900, 1000] {
-            s.run_to(SimTime::from_secs(t)).unwrap();
+            s.advance(SimTime::from_secs(t));
             let m = s.metrics();
             assert_eq!(m.sim_time_s, (t as f64).min(900.0));
             assert!(m.sim_time_s >= last);

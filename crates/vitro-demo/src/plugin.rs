@@ -1,13 +1,16 @@
 //! The demo as a plug-in of the tools: [`PatrollingCars`] is the kind `"demo"`, and a
-//! [`DemoView`] is one of its runs.
+//! [`DemoRun`] (the generic run with the demo's [`Scenario`] as its play) is one of its runs.
 
 use crate::config::{ConfigError, DemoConfig};
-use crate::view::DemoView;
-use crate::{DemoError, Metrics, Scenario};
+use crate::patrol::{Demo, PatrolMsg};
+use crate::{DemoError, DemoRun, Metrics, Scenario, snapshot, view};
 use std::path::Path;
-use vitro::sim::Control;
-use vitro::time::{SimDuration, SimTime};
-use vitro_mission::{BuildOptions, Metric, MissionError, Run, RunFailed};
+use vitro::sim::Simulation;
+use vitro::time::SimTime;
+use vitro_mission::session::Play;
+use vitro_mission::{
+    BuildOptions, Metric, MetricTable, MissionError, Run, RunFailed, SnapshotError, metric_table,
+};
 use vitro_record::{Frame, Scene};
 
 /// The demo, registered as `kind = "demo"`: cars patrolling a generated town and claiming
@@ -22,7 +25,7 @@ fn config(path: &Path, text: &str) -> Result<DemoConfig, MissionError> {
     })
 }
 
-fn build(cfg: DemoConfig) -> Result<Scenario, MissionError> {
+fn build(cfg: DemoConfig) -> Result<DemoRun, MissionError> {
     Scenario::build(cfg).map_err(|e| match e {
         DemoError::Invalid(_) => MissionError::Scenario(e.to_string()),
         _ => MissionError::Setup(format!("cannot build the scenario: {e}")),
@@ -65,14 +68,11 @@ impl vitro_mission::Mission for PatrollingCars {
                 "--fidelity {level}: the demo has one level of fidelity"
             )));
         }
-        Ok(Box::new(DemoView::new(build(cfg)?)))
+        Ok(Box::new(build(cfg)?))
     }
 
     fn metric_names(&self) -> Vec<&'static str> {
-        metrics(&Metrics::default())
-            .into_iter()
-            .map(|(k, _)| k)
-            .collect()
+        DemoRun::metric_names()
     }
 
     /// The demo names no files; it ends at `end_s`.
@@ -85,79 +85,69 @@ impl vitro_mission::Mission for PatrollingCars {
     }
 }
 
-/// The demo's metrics as named values, in summary-column order.
-fn metrics(m: &Metrics) -> Vec<(&'static str, Metric)> {
-    vec![
-        ("mean_idleness_s", Metric::Float(m.mean_idleness_s)),
-        ("max_idleness_s", Metric::Float(m.max_idleness_s)),
-        ("visits", Metric::count(m.visits)),
-        ("decisions", Metric::count(m.decisions)),
-        ("goals_reached", Metric::count(m.goals_reached)),
-        ("yielded", Metric::count(m.yielded)),
-        ("messages_sent", Metric::count(m.messages_sent)),
-        ("messages_received", Metric::count(m.messages_received)),
-        ("messages_lost", Metric::count(m.messages_lost)),
-        ("messages_bounced", Metric::count(m.messages_bounced)),
-        ("events", Metric::count(m.events)),
-        ("sim_time_s", Metric::Float(m.sim_time_s)),
-        ("junctions", Metric::count(m.junctions as u64)),
-        ("streets", Metric::count(m.streets as u64)),
-        ("cars", Metric::count(m.cars as u64)),
-        ("stop", Metric::Text(m.stop.clone())),
-        ("trace_hash", Metric::Text(format!("{:016x}", m.trace_hash))),
-    ]
+impl MetricTable for Metrics {
+    fn table(&self) -> Vec<(&'static str, Metric)> {
+        metric_table!(self; mean_idleness_s, max_idleness_s, visits, decisions, goals_reached,
+            yielded, messages_sent, messages_received, messages_lost, messages_bounced, events,
+            sim_time_s, junctions, streets, cars, stop)
+    }
 }
 
-impl Run for DemoView {
-    fn name(&self) -> String {
-        self.scenario().config().name.clone()
+impl Play for Scenario {
+    type Model = Demo;
+    type Metrics = Metrics;
+    type Heard = ();
+
+    fn metrics(run: &DemoRun) -> Metrics {
+        Scenario::measure(run)
     }
 
-    fn seed(&self) -> u64 {
-        self.scenario().config().seed
+    fn scene(run: &DemoRun) -> Scene {
+        view::scene(run)
     }
 
-    fn end(&self) -> SimTime {
-        self.scenario().end()
+    fn frame(run: &mut DemoRun, frame: &mut Frame) {
+        view::frame(run, frame);
     }
 
-    fn set_end(&mut self, end: SimTime) {
-        self.scenario_mut().set_end(end);
+    fn message_kind(msg: &PatrolMsg) -> &'static str {
+        match msg {
+            PatrolMsg::Claim { .. } => "claim",
+        }
     }
 
-    fn sample(&self) -> SimDuration {
-        SimDuration::from_secs(1)
+    /// The time advanced to: the demo's metrics are observed up to it.
+    fn now(run: &DemoRun) -> SimTime {
+        run.reached()
     }
 
-    fn now(&self) -> SimTime {
-        self.scenario().reached()
+    fn check(run: &DemoRun) -> Result<(), RunFailed> {
+        Scenario::failure(run).map_err(|e| RunFailed(e.to_string()))
     }
 
-    fn advance(&mut self, until: SimTime) -> Result<bool, RunFailed> {
-        DemoView::advance(self, until).map_err(|e| RunFailed(e.to_string()))
-    }
-
-    fn control(&self) -> Control {
-        DemoView::control(self)
-    }
-
-    fn trace_hash(&self) -> u64 {
-        DemoView::trace_hash(self)
-    }
-
-    fn metrics(&self) -> Vec<(&'static str, Metric)> {
-        metrics(&self.scenario().metrics())
-    }
-
-    fn report(&self) -> serde_json::Map<String, serde_json::Value> {
-        match serde_json::to_value(self.scenario().metrics()) {
+    fn report(_: &DemoRun, m: &Metrics) -> serde_json::Map<String, serde_json::Value> {
+        match serde_json::to_value(m) {
             Ok(serde_json::Value::Object(m)) => m,
             _ => serde_json::Map::new(),
         }
     }
 
-    fn summary(&self) -> Vec<(String, String)> {
-        let m = self.scenario().metrics();
+    /// The town's size: junctions, streets and cars.
+    fn world(run: &DemoRun) -> u64 {
+        let streets = run.sim.env().streets();
+        let size = [streets.node_count(), streets.edge_count(), run.cars().len()];
+        size.iter().fold(0, |h, &n| h.rotate_left(21) ^ n as u64)
+    }
+
+    fn save(run: &DemoRun) -> Result<Vec<u8>, SnapshotError> {
+        snapshot::save(run)
+    }
+
+    fn restore(run: &mut DemoRun, state: &[u8]) -> Result<Simulation<Demo>, SnapshotError> {
+        snapshot::restore(run, state)
+    }
+
+    fn summary(_: &DemoRun, m: &Metrics) -> Vec<(String, String)> {
         vec![
             (
                 "world".into(),
@@ -189,22 +179,5 @@ impl Run for DemoView {
                 ),
             ),
         ]
-    }
-
-    fn scene(&self) -> Scene {
-        DemoView::scene(self)
-    }
-
-    fn frame(&mut self) -> Frame {
-        let t = self.now().as_nanos();
-        DemoView::frame(self, t)
-    }
-
-    fn save_state(&self) -> Result<Vec<u8>, vitro_mission::SnapshotError> {
-        DemoView::save_state(self)
-    }
-
-    fn restore_state(&mut self, state: &[u8]) -> Result<(), vitro_mission::SnapshotError> {
-        DemoView::restore_state(self, state)
     }
 }

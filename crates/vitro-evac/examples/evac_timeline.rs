@@ -11,6 +11,7 @@
 
 use std::collections::BTreeMap;
 use vitro::time::{SimDuration, SimTime};
+use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::commander::{Commander, Phase};
 use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile};
@@ -45,7 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // When each leg of the drives began (from the commander's stated plan, "leg k/n").
     let mut legs: Vec<(f64, String)> = Vec::new();
     let truck = m.brief.truck;
-    let phase_of = |m: &Mission| {
+    let phase_of = |m: &EvacRun| {
         m.sim
             .agent(truck)
             .and_then(|a| a.as_any().downcast_ref::<Commander>())

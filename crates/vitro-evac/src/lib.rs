@@ -35,7 +35,7 @@ mod setup;
 mod snapshot;
 pub mod view;
 
-use crate::radio::{Evac, Radio};
+use crate::radio::Radio;
 use brief::Brief;
 pub use error::MissionError;
 pub use member::Member;
@@ -43,57 +43,33 @@ pub use plugin::{Evacuation, mission_error, validated};
 use referee::{Metrics, Referee};
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use vitro::entity::EntityId;
-use vitro::sim::{Input, Simulation, StopReason};
-use vitro::time::{SimDuration, SimTime};
+use vitro::time::SimTime;
+use vitro_mission::session::{Session, Setup};
 use vitro_tactical::condition::{Role, Status};
 use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile, Validated};
 use vitro_tactical::world::Side;
 
-/// What the listener collects between samples: the contacts (for the metrics, taken at
-/// every sample) and, once the scene was asked for ([`Mission::scene`]: a recorder or a
-/// viewer asks for it before it asks for frames), the radio messages for the frames. A run
-/// nobody watches keeps no message, so its memory does not grow with the messages sent.
-#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
-struct Heard {
-    contacts: Vec<(SimTime, EntityId)>,
-    messages: Vec<vitro_record::MessageEvent>,
-    /// Whether messages are kept (not part of a snapshot: a restored run keeps them once
-    /// its scene is asked for).
-    #[serde(skip)]
-    watched: bool,
-}
+/// A run of the evacuation: the generic run with the mission's own part, [`Mission`].
+pub type EvacRun = Session<Mission>;
 
-/// A mission ready to run: the simulation, the briefing and the referee.
+/// The evacuation's own part of a run: the briefing, the entities and the referee (the
+/// simulation, the settings and the advance loop are the [`Session`]'s, whose fields it
+/// reads as its own: `run.sim`, `run.end`, `run.referee`).
 pub struct Mission {
-    /// The simulation (its `control()` drives pacing from another thread).
-    pub sim: Simulation<Evac>,
     /// The briefing.
     pub brief: Arc<Brief>,
     /// The entities, in id order.
     pub members: Vec<Member>,
-    /// The scenario's name.
-    pub name: String,
-    /// When simulated time 0 is on the calendar (the scenario's `start`).
-    pub start: vitro::time::UtcTime,
     /// The referee.
     pub referee: Referee,
-    /// When the mission ends at the latest.
-    pub end: SimTime,
-    /// Sampling period of the metrics and the frames.
-    pub sample: SimDuration,
-    /// The master seed the mission was built with.
-    pub seed: u64,
     names: BTreeMap<EntityId, String>,
-    heard: Arc<Mutex<Heard>>,
-    next_sample: SimTime,
-    finished: bool,
 }
 
 impl Mission {
     /// Validates the scenario at `path` and builds its mission with its seed, or `seed`.
-    pub fn from_file(path: impl AsRef<Path>, seed: Option<u64>) -> Result<Mission, MissionError> {
+    pub fn from_file(path: impl AsRef<Path>, seed: Option<u64>) -> Result<EvacRun, MissionError> {
         let v = ScenarioFile::validate(path)?;
         Mission::build(v, seed)
     }
@@ -104,7 +80,7 @@ impl Mission {
         path: impl AsRef<Path>,
         seed: Option<u64>,
         preset: Preset,
-    ) -> Result<Mission, MissionError> {
+    ) -> Result<EvacRun, MissionError> {
         let mut v = ScenarioFile::validate(path)?;
         v.loaded.file.fidelity = FidelitySpec {
             level: preset,
@@ -114,7 +90,7 @@ impl Mission {
     }
 
     /// Builds the mission of a validated scenario with its seed, or `seed`.
-    pub fn build(v: Validated, seed: Option<u64>) -> Result<Mission, MissionError> {
+    pub fn build(v: Validated, seed: Option<u64>) -> Result<EvacRun, MissionError> {
         Mission::build_with(v, seed, None)
     }
 
@@ -126,7 +102,7 @@ impl Mission {
         v: Validated,
         seed: Option<u64>,
         units: &[String],
-    ) -> Result<(Mission, external::SharedDesk), MissionError> {
+    ) -> Result<(EvacRun, external::SharedDesk), MissionError> {
         let can = Mission::controllable(&v);
         if let Some(bad) = units.iter().find(|u| !can.contains(u)) {
             return Err(MissionError::Setup(format!(
@@ -152,138 +128,75 @@ impl Mission {
         v: Validated,
         seed: Option<u64>,
         external: Option<(&[String], &external::SharedDesk)>,
-    ) -> Result<Mission, MissionError> {
-        let name = v.loaded.file.name.clone();
-        let start = v
-            .loaded
-            .file
-            .start
-            .unwrap_or(vitro::time::UtcTime::DEFAULT_START);
-        let seed = seed.unwrap_or(v.loaded.file.seed);
-        let end = SimTime::from_secs_f64(v.loaded.file.end.time_s);
-        let sample = SimDuration::from_secs_f64(v.loaded.file.record.sample_s.max(0.01));
+    ) -> Result<EvacRun, MissionError> {
+        let f = &v.loaded.file;
+        let seed = seed.unwrap_or(f.seed);
+        let (end_s, sample_s) = (f.end.time_s, f.record.sample_s);
+        let setup = Setup::from_secs(f.name.clone(), seed, end_s, sample_s, f.start);
         let built = setup::build(v, seed, external)?;
-        let names: BTreeMap<EntityId, String> = built
-            .members
-            .iter()
+        let names = (built.members.iter())
             .map(|m| (m.id, m.name.clone()))
             .collect();
-        let heard = Arc::new(Mutex::new(Heard::default()));
-        let mut sim = built.sim;
-        listen(&mut sim, &heard);
-        let adversaries = built
-            .members
-            .iter()
+        let adversaries = (built.members.iter())
             .filter(|m| m.side == Side::Red && m.role == Role::Trooper)
             .count() as u32;
         let mut referee = Referee::default();
         referee.metrics.adversaries = adversaries;
         referee.sensor_range_m = built.brief.sensors.air.range_m;
-        Ok(Mission {
-            sim,
+        let mission = Mission {
             brief: built.brief,
             members: built.members,
-            name,
-            start,
             referee,
-            end,
-            sample,
-            seed,
             names,
-            heard,
-            next_sample: SimTime::ZERO,
-            finished: false,
-        })
-    }
-
-    /// True once the mission is over: decided, out of time or out of events.
-    pub fn finished(&self) -> bool {
-        self.finished
-    }
-
-    /// Runs until simulated time `until` (or the end of the mission), sampling the metrics
-    /// every sample period; returns false once the mission is over.
-    pub fn advance(&mut self, until: SimTime) -> bool {
-        let brief = self.brief.clone();
-        while !self.finished {
-            let next = self.next_sample.min(self.end).min(until);
-            let reason = self.sim.run(next, |s| over(s.env(), &brief));
-            match reason {
-                StopReason::Condition | StopReason::Requested => {
-                    self.take_sample(self.sim.now());
-                    self.finished = true;
-                }
-                StopReason::Control => break,
-                StopReason::Time | StopReason::QueueEmpty => {
-                    if next == self.next_sample {
-                        self.take_sample(next);
-                        self.next_sample += self.sample;
-                    }
-                    if reason == StopReason::QueueEmpty || next >= self.end {
-                        self.take_sample(next);
-                        self.finished = true;
-                    } else if next >= until {
-                        break;
-                    }
-                }
-            }
-        }
-        !self.finished
-    }
-
-    /// Runs the mission to its end and returns its metrics.
-    pub fn run(&mut self) -> Metrics {
-        while self.advance(self.end) {}
-        self.metrics()
-    }
-
-    fn take_sample(&mut self, now: SimTime) {
-        let contacts = match self.heard.lock() {
-            Ok(mut h) => std::mem::take(&mut h.contacts),
-            Err(_) => Vec::new(),
         };
+        Ok(Session::new(setup, built.sim, mission))
+    }
+
+    /// Takes the contacts reported since the last sample to the referee, and its sample.
+    fn take_sample(run: &mut EvacRun, now: SimTime) {
+        let contacts = std::mem::take(&mut run.heard().own);
+        let m = &mut run.play;
         for (t, target) in contacts {
             // Members are listed in id order (a look-up, not a scan per contact).
-            let member = match self.members.get(target.index()) {
-                Some(m) if m.id == target => Some(m),
-                _ => self.members.iter().find(|m| m.id == target),
+            let member = match m.members.get(target.index()) {
+                Some(x) if x.id == target => Some(x),
+                _ => m.members.iter().find(|x| x.id == target),
             };
-            let red = member.is_some_and(|m| m.side == Side::Red && m.role == Role::Trooper);
-            if red && let Some(name) = self.names.get(&target) {
-                self.referee.contact(name, t);
+            let red = member.is_some_and(|x| x.side == Side::Red && x.role == Role::Trooper);
+            if red && let Some(name) = m.names.get(&target) {
+                m.referee.contact(name, t);
             }
-            if Some(target) == self.brief.hvt && self.referee.metrics.hvt_first_report_s.is_none() {
-                self.referee.metrics.hvt_first_report_s = Some(t.as_secs_f64());
-                self.referee.log.push((t, "HVT reported".into()));
+            if Some(target) == m.brief.hvt && m.referee.metrics.hvt_first_report_s.is_none() {
+                m.referee.metrics.hvt_first_report_s = Some(t.as_secs_f64());
+                m.referee.log.push((t, "HVT reported".into()));
             }
         }
-        let radius = self.brief.mission.cover_radius_m;
-        self.referee
-            .sample(self.sim.env(), now, radius, &self.names);
+        let radius = m.brief.mission.cover_radius_m;
+        (m.referee).sample(run.sim.env(), now, radius, &m.names);
     }
 
-    /// The metrics so far.
-    pub fn metrics(&self) -> Metrics {
-        let mut m = self.referee.metrics.clone();
+    /// The metrics of `run` so far.
+    fn measure(run: &EvacRun) -> Metrics {
+        let mut m = run.referee.metrics.clone();
         let (mut sent, mut lost) = (0, 0);
-        for (_, _, c) in self.sim.network().all_counts() {
+        for (_, _, c) in run.sim.network().all_counts() {
             sent += c.sent;
             lost += c.lost;
         }
         m.messages_sent = sent;
         m.messages_lost = lost;
-        m.events = self.sim.events_fired();
-        m.sim_time_s = self.sim.now().as_secs_f64();
-        self.patrol_attacks(&mut m);
-        for mem in &self.members {
-            let condition = self.sim.env().conditions.get(mem.id);
+        m.events = run.sim.events_fired();
+        m.sim_time_s = run.sim.now().as_secs_f64();
+        Mission::patrol_attacks(run, &mut m);
+        for mem in &run.members {
+            let condition = run.sim.env().conditions.get(mem.id);
             if condition.is_some_and(|c| {
                 matches!(c.role, Role::Procerus | Role::Vidar | Role::Skeldar)
                     && c.status == Status::Down
             }) {
                 m.aircraft_down += 1;
             }
-            let agent = self.sim.agent(mem.id).map(|a| a.as_any());
+            let agent = run.sim.agent(mem.id).map(|a| a.as_any());
             if let Some(a) = agent.and_then(|a| a.downcast_ref::<agents::red::Adversary>()) {
                 m.shots += u64::from(a.shots);
             }
@@ -321,11 +234,11 @@ impl Mission {
 impl Mission {
     /// The patrol attacks and the umpire's verdicts: each attacker's attack against the
     /// Skeldars' step logs (plan unit order).
-    fn patrol_attacks(&self, m: &mut Metrics) {
+    fn patrol_attacks(run: &EvacRun, m: &mut Metrics) {
         let mut logs: Vec<(usize, &[agents::patrol::steps::StepLog])> = Vec::new();
         let mut attacks = Vec::new();
-        for mem in &self.members {
-            let agent = self.sim.agent(mem.id).map(|a| a.as_any());
+        for mem in &run.members {
+            let agent = run.sim.agent(mem.id).map(|a| a.as_any());
             let aircraft = agent.and_then(|a| a.downcast_ref::<agents::air::Aircraft>());
             if let Some(unit) = aircraft.and_then(|a| a.patrol.as_ref()) {
                 logs.push((unit.unit, &unit.log));
@@ -357,42 +270,6 @@ impl Mission {
             m.patrol_capture_on_schedule = Some(on / m.patrol_attacks_on_schedule as f64);
         }
     }
-}
-
-/// Collects the contacts and (when watched) the messages of `sim` into `heard` between
-/// samples.
-fn listen(sim: &mut Simulation<Evac>, heard: &Arc<Mutex<Heard>>) {
-    let sink = heard.clone();
-    sim.add_listener(move |f| {
-        let Ok(mut h) = sink.lock() else { return };
-        if let Input::Message(env) = &f.input
-            && let Radio::Contact { target, .. } = &env.body
-        {
-            h.contacts.push((f.time, *target));
-        }
-        if !h.watched {
-            return;
-        }
-        match &f.input {
-            Input::Message(env) => {
-                h.messages.push(vitro_record::MessageEvent {
-                    t_ns: f.time.as_nanos(),
-                    from: env.from.0,
-                    to: Some(env.receiver.0),
-                    kind: radio_kind(&env.body).into(),
-                    delivered: true,
-                });
-            }
-            Input::Undeliverable(env, _) => h.messages.push(vitro_record::MessageEvent {
-                t_ns: f.time.as_nanos(),
-                from: env.from.0,
-                to: None,
-                kind: radio_kind(&env.body).into(),
-                delivered: false,
-            }),
-            _ => {}
-        }
-    });
 }
 
 /// True once the mission is over: the VIP is down, or it is out and no hunt goes on (the

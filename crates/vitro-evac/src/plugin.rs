@@ -1,25 +1,22 @@
-//! The evacuation as a plug-in of the tools: [`Evacuation`] is the kind `"evacuation"`, and a
-//! [`Mission`] is one of its runs.
+//! The evacuation as a plug-in of the tools: [`Evacuation`] is the kind `"evacuation"`, and an
+//! [`EvacRun`] (the generic run with the evacuation's [`Mission`] as its play) is one of its
+//! runs.
 
+use crate::radio::{Evac, Radio};
 use crate::referee::Metrics;
-use crate::{Mission, MissionError};
+use crate::{EvacRun, Mission, MissionError, over, radio_kind, snapshot, view};
 use std::path::Path;
-use vitro::sim::Control;
-use vitro::time::{SimDuration, SimTime};
-use vitro_mission::{BuildOptions, Metric, Run, RunFailed};
+use vitro::entity::EntityId;
+use vitro::sim::{Fired, Input, Simulation};
+use vitro::time::SimTime;
+use vitro_mission::session::{Heard, Play};
+use vitro_mission::{BuildOptions, Metric, MetricTable, Run, SnapshotError, metric_table};
 use vitro_record::{Frame, Scene};
-use vitro_tactical::scenario::{Diagnostics, FidelitySpec, Preset, ScenarioFile, Validated};
+use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile, Validated};
 
 /// The evacuation mission, registered as `kind = "evacuation"`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Evacuation;
-
-/// Every problem of a scenario, each with its place and the offending line.
-fn diagnostics(d: Diagnostics) -> vitro_mission::MissionError {
-    let n = d.len();
-    let problems = if n == 1 { "problem" } else { "problems" };
-    vitro_mission::MissionError::Scenario(format!("{n} {problems}\n{}", d.render()))
-}
 
 /// The scenario text read from `path`, validated, every entity type at the levels of the
 /// `fidelity` preset if one is named (one of `discrete`, `interpolated`, `physical`).
@@ -31,10 +28,9 @@ pub fn validated(
     text: &str,
     fidelity: Option<&str>,
 ) -> Result<Validated, vitro_mission::MissionError> {
-    let mut v = ScenarioFile::validate_text(path, text).map_err(diagnostics)?;
-    let preset = Preset::named(fidelity)
-        .map_err(|e| vitro_mission::MissionError::Scenario(e.to_string()))?;
-    if let Some(level) = preset {
+    let scenario = |e: String| vitro_mission::MissionError::Scenario(e);
+    let mut v = ScenarioFile::validate_text(path, text).map_err(|d| scenario(d.report()))?;
+    if let Some(level) = Preset::named(fidelity).map_err(|e| scenario(e.to_string()))? {
         v.loaded.file.fidelity = FidelitySpec {
             level,
             ..FidelitySpec::default()
@@ -46,7 +42,7 @@ pub fn validated(
 /// A mission that could not be built as the plug-in's error.
 pub fn mission_error(e: MissionError) -> vitro_mission::MissionError {
     match e {
-        MissionError::Scenario(d) => diagnostics(d),
+        MissionError::Scenario(d) => vitro_mission::MissionError::Scenario(d.report()),
         MissionError::Setup(_) => vitro_mission::MissionError::Setup(e.to_string()),
     }
 }
@@ -60,12 +56,8 @@ impl vitro_mission::Mission for Evacuation {
         "a convoy fetches a VIP through a town held by red units"
     }
 
-    fn fidelity_levels(&self) -> &'static [&'static str] {
-        &Preset::NAMES
-    }
-
     fn validate(&self, path: &Path, text: &str) -> Result<String, vitro_mission::MissionError> {
-        let v = ScenarioFile::validate_text(path, text).map_err(diagnostics)?;
+        let v = validated(path, text, None)?;
         let f = &v.loaded.file;
         let entities: u64 = f.entities.iter().map(|e| u64::from(e.count)).sum();
         let name = |p: &Path| {
@@ -94,11 +86,12 @@ impl vitro_mission::Mission for Evacuation {
         Ok(Box::new(mission))
     }
 
+    fn fidelity_levels(&self) -> &'static [&'static str] {
+        &Preset::NAMES
+    }
+
     fn metric_names(&self) -> Vec<&'static str> {
-        metrics(&Metrics::default(), 0)
-            .into_iter()
-            .map(|(k, _)| k)
-            .collect()
+        EvacRun::metric_names()
     }
 
     fn file_keys(&self) -> &'static [(&'static str, &'static str)] {
@@ -111,169 +104,98 @@ impl vitro_mission::Mission for Evacuation {
     }
 }
 
-/// The mission's metrics as named values, in summary-column order.
-fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
-    vec![
-        ("success", Metric::Bool(m.success)),
-        ("time_to_extraction_s", m.time_to_extraction_s.into()),
-        ("casualties", Metric::count(u64::from(m.casualties))),
-        ("vip_down", Metric::Bool(m.vip_down)),
-        (
-            "adversaries_detected",
-            Metric::count(u64::from(m.adversaries_detected)),
-        ),
-        (
-            "mean_time_to_detection_s",
-            m.mean_time_to_detection_s.into(),
-        ),
-        ("time_uncovered_s", Metric::Float(m.time_uncovered_s)),
-        ("hvt_captured", Metric::Bool(m.hvt_captured)),
-        ("hvt_capture_s", m.hvt_capture_s.into()),
-        ("messages_sent", Metric::count(m.messages_sent)),
-        ("messages_lost", Metric::count(m.messages_lost)),
-        ("plan_repairs", Metric::count(m.plan_repairs)),
-        ("vehicle_stalls", Metric::count(m.vehicle_stalls)),
-        ("aircraft_down", Metric::count(m.aircraft_down)),
-        ("plan_cuts", Metric::count(m.plan_cuts)),
-        ("plan_messages", Metric::count(m.plan_messages)),
-        ("plan_failures", Metric::count(m.plan_failures)),
-        ("plan_fallbacks", Metric::count(m.plan_fallbacks)),
-        ("checkpoints_missed", Metric::count(m.checkpoints_missed)),
-        ("shots", Metric::count(m.shots)),
-        ("cnet_calls", Metric::count(m.cnet_calls)),
-        ("cnet_awards", Metric::count(m.cnet_awards)),
-        ("cnet_reallocations", Metric::count(m.cnet_reallocations)),
-        (
-            "patrol_capture_probability",
-            m.patrol_capture_probability.into(),
-        ),
-        ("patrol_cover_fraction", m.patrol_cover_fraction.into()),
-        ("patrol_sight_fraction", m.patrol_sight_fraction.into()),
-        ("patrol_attacks", Metric::count(m.patrol_attacks)),
-        (
-            "patrol_attacks_stopped",
-            Metric::count(m.patrol_attacks_stopped),
-        ),
-        ("patrol_capture_computed", m.patrol_capture_computed.into()),
-        (
-            "patrol_attacks_on_schedule",
-            Metric::count(m.patrol_attacks_on_schedule),
-        ),
-        (
-            "patrol_stopped_on_schedule",
-            Metric::count(m.patrol_stopped_on_schedule),
-        ),
-        (
-            "patrol_capture_on_schedule",
-            m.patrol_capture_on_schedule.into(),
-        ),
-        (
-            "patrol_attacks_misread",
-            Metric::count(m.patrol_attacks_misread),
-        ),
-        ("patrol_resolves", Metric::count(m.patrol_resolves)),
-        ("events", Metric::count(m.events)),
-        ("sim_time_s", Metric::Float(m.sim_time_s)),
-        ("trace_hash", Metric::Text(format!("{trace:016x}"))),
-    ]
+impl MetricTable for Metrics {
+    fn table(&self) -> Vec<(&'static str, Metric)> {
+        metric_table!(self; success, time_to_extraction_s, casualties, vip_down,
+            adversaries_detected, mean_time_to_detection_s, time_uncovered_s, hvt_captured,
+            hvt_capture_s, messages_sent, messages_lost, plan_repairs, vehicle_stalls,
+            aircraft_down, plan_cuts, plan_messages, plan_failures, plan_fallbacks,
+            checkpoints_missed, shots, cnet_calls, cnet_awards, cnet_reallocations,
+            patrol_capture_probability, patrol_cover_fraction, patrol_sight_fraction,
+            patrol_attacks, patrol_attacks_stopped, patrol_capture_computed,
+            patrol_attacks_on_schedule, patrol_stopped_on_schedule, patrol_capture_on_schedule,
+            patrol_attacks_misread, patrol_resolves, events, sim_time_s)
+    }
 }
 
-impl Run for Mission {
-    fn name(&self) -> String {
-        self.name.clone()
+impl Play for Mission {
+    type Model = Evac;
+    type Metrics = Metrics;
+    /// The contacts reported since the last sample, for the referee.
+    type Heard = Vec<(SimTime, EntityId)>;
+
+    fn metrics(run: &EvacRun) -> Metrics {
+        Mission::measure(run)
     }
 
-    fn seed(&self) -> u64 {
-        self.seed
+    fn summary(run: &EvacRun, m: &Metrics) -> Vec<(String, String)> {
+        summary(run, m)
     }
 
-    fn end(&self) -> SimTime {
-        self.end
+    fn scene(run: &EvacRun) -> Scene {
+        view::scene(run)
     }
 
-    fn set_end(&mut self, end: SimTime) {
-        self.end = end;
+    fn frame(run: &mut EvacRun, frame: &mut Frame) {
+        view::frame(run, frame);
     }
 
-    fn sample(&self) -> SimDuration {
-        self.sample
+    fn over(&self, sim: &Simulation<Evac>) -> bool {
+        over(sim.env(), &self.brief)
     }
 
-    fn now(&self) -> SimTime {
-        self.sim.now()
+    fn hear(heard: &mut Heard<Self::Heard>, f: &Fired<'_, Evac>) {
+        if let Input::Message(env) = &f.input
+            && let Radio::Contact { target, .. } = &env.body
+        {
+            heard.own.push((f.time, *target));
+        }
+        heard.keep(f, radio_kind);
     }
 
-    fn advance(&mut self, until: SimTime) -> Result<bool, RunFailed> {
-        Ok(Mission::advance(self, until))
+    fn at_sample(run: &mut EvacRun, now: SimTime) {
+        Mission::take_sample(run, now);
     }
 
-    fn control(&self) -> Control {
-        self.sim.control()
+    fn verdict(_: &EvacRun, m: &Metrics) -> Result<(), String> {
+        match (m.success, m.vip_down) {
+            (true, _) => Ok(()),
+            (false, true) => Err("mission failed: the VIP was hit".into()),
+            (false, false) => Err("mission failed: the VIP was not extracted in time".into()),
+        }
     }
 
-    fn trace_hash(&self) -> u64 {
-        self.sim.trace_hash()
-    }
-
-    fn metrics(&self) -> Vec<(&'static str, Metric)> {
-        metrics(&Mission::metrics(self), self.sim.trace_hash())
-    }
-
-    fn report(&self) -> serde_json::Map<String, serde_json::Value> {
-        let mut out = match serde_json::to_value(Mission::metrics(self)) {
+    fn report(run: &EvacRun, m: &Metrics) -> serde_json::Map<String, serde_json::Value> {
+        let mut out = match serde_json::to_value(m) {
             Ok(serde_json::Value::Object(m)) => m,
             _ => serde_json::Map::new(),
         };
-        let levels: serde_json::Map<String, serde_json::Value> = self
-            .members
-            .iter()
+        let levels: serde_json::Map<String, serde_json::Value> = (run.members.iter())
             .map(|x| (x.kind.name().to_owned(), x.level.name().into()))
             .collect();
         out.insert("levels".into(), levels.into());
         out
     }
 
-    fn verdict(&self) -> Result<(), String> {
-        let m = &self.referee.metrics;
-        if m.success {
-            Ok(())
-        } else if m.vip_down {
-            Err("mission failed: the VIP was hit".into())
-        } else {
-            Err("mission failed: the VIP was not extracted in time".into())
-        }
+    fn drain_log(run: &mut EvacRun) -> Vec<(SimTime, String)> {
+        std::mem::take(&mut run.referee.log)
     }
 
-    fn summary(&self) -> Vec<(String, String)> {
-        summary(self, &Mission::metrics(self))
+    fn world(run: &EvacRun) -> u64 {
+        snapshot::world(&run.brief)
     }
 
-    fn scene(&self) -> Scene {
-        Mission::scene(self)
+    fn save(run: &EvacRun) -> Result<Vec<u8>, SnapshotError> {
+        snapshot::save(run)
     }
 
-    fn frame(&mut self) -> Frame {
-        Mission::frame(self)
-    }
-
-    fn save_state(&self) -> Result<Vec<u8>, vitro_mission::SnapshotError> {
-        Mission::save_state(self)
-    }
-
-    fn restore_state(&mut self, state: &[u8]) -> Result<(), vitro_mission::SnapshotError> {
-        Mission::restore_state(self, state)
-    }
-
-    fn drain_log(&mut self) -> Vec<(f64, String)> {
-        std::mem::take(&mut self.referee.log)
-            .into_iter()
-            .map(|(t, line)| (t.as_secs_f64(), line))
-            .collect()
+    fn restore(run: &mut EvacRun, state: &[u8]) -> Result<Simulation<Evac>, SnapshotError> {
+        snapshot::restore(run, state)
     }
 }
 
 /// The human summary's lines, between the scenario line and the time line.
-fn summary(mission: &Mission, m: &Metrics) -> Vec<(String, String)> {
+fn summary(mission: &EvacRun, m: &Metrics) -> Vec<(String, String)> {
     let opt = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.1} s"));
     let mut levels: Vec<(String, String)> = mission
         .members

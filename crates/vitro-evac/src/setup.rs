@@ -50,30 +50,6 @@ const EYE_M: f64 = 1.7;
 /// walk-graph edges (tens of seconds each) and a half-second cycle would only repeat itself.
 const DISCRETE_PERIOD: SimDuration = SimDuration::from_secs(2);
 
-fn role_of(t: EntityType) -> Role {
-    match t {
-        EntityType::Truck => Role::Truck,
-        EntityType::Car => Role::Car,
-        EntityType::Ugv => Role::Ugv,
-        EntityType::Trooper => Role::Trooper,
-        EntityType::Vip => Role::Vip,
-        EntityType::Hvt => Role::Hvt,
-        EntityType::Procerus => Role::Procerus,
-        EntityType::Vidar => Role::Vidar,
-        EntityType::Skeldar => Role::Skeldar,
-    }
-}
-
-fn height_of(role: Role) -> f64 {
-    match role {
-        Role::Truck => 3.2,
-        Role::Car => 1.5,
-        Role::Ugv => 1.6,
-        Role::Trooper | Role::Vip | Role::Hvt => 1.8,
-        Role::Procerus | Role::Vidar | Role::Skeldar => 1.0,
-    }
-}
-
 /// Every entity the file asks for, in file order (counts expanded), with its id.
 pub(crate) fn roster(file: &ScenarioFile) -> Vec<Member> {
     let mut out = Vec::new();
@@ -88,7 +64,7 @@ pub(crate) fn roster(file: &ScenarioFile) -> Vec<Member> {
                 id: EntityId(out.len() as u32),
                 name,
                 kind: e.kind,
-                role: role_of(e.kind),
+                role: e.kind.into(),
                 side: e.side.side(),
                 level: file.fidelity.level_of(e.kind),
                 start: e.start,
@@ -413,7 +389,7 @@ fn place(
             .unwrap_or(NodeId(0))
     };
     let w: &mut Arena = sim.env_mut();
-    let mut cond = Condition::new(m.role, m.side, height_of(m.role));
+    let mut cond = Condition::new(m.role, m.side, m.role.height());
     let err =
         |e: vitro_tactical::arena::PlaceError| MissionError::Setup(format!("{}: {e}", m.name));
     let heading = 0.0;

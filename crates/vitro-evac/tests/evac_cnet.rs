@@ -8,6 +8,7 @@ mod common;
 use common::{commander, trooper};
 use vitro::entity::EntityId;
 use vitro::time::{SimDuration, SimTime};
+use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::commander::Phase;
 use vitro_evac::agents::trooper::Task;
@@ -20,14 +21,14 @@ const SCENARIO: &str = concat!(
 );
 
 /// Seed 2 at the discrete level: the hunt starts early, before the VIP is out, and lasts.
-fn mission() -> Mission {
+fn mission() -> EvacRun {
     let mut m = Mission::at_fidelity(SCENARIO, Some(2), Preset::Discrete).expect("builds");
     m.end = SimTime::from_secs(1500);
     m
 }
 
 /// Runs `m` second by second until `done` holds (false if the run ended first).
-fn until(m: &mut Mission, t: &mut SimTime, mut done: impl FnMut(&Mission) -> bool) -> bool {
+fn until(m: &mut EvacRun, t: &mut SimTime, mut done: impl FnMut(&EvacRun) -> bool) -> bool {
     loop {
         *t += SimDuration::from_secs(1);
         if !m.advance(*t) {

@@ -13,6 +13,7 @@ use common::{commander, pct, trooper};
 use std::collections::{BTreeMap, BTreeSet};
 use vitro::entity::EntityId;
 use vitro::time::SimTime;
+use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::commander::Phase;
 use vitro_tactical::behaviour::formation::{Switch, TrackPoint};
@@ -28,7 +29,7 @@ const SCENARIO: &str = concat!(
 const VIP_HOUSE: [f64; 2] = [147.1, 64.6];
 
 /// The default mission at `preset`, the VIP waiting at `vip` (town metres).
-fn mission(preset: Preset, vip: [f64; 2]) -> Mission {
+fn mission(preset: Preset, vip: [f64; 2]) -> EvacRun {
     let mut v = ScenarioFile::validate(SCENARIO).expect("the default scenario validates");
     v.loaded.file.fidelity = FidelitySpec {
         level: preset,
@@ -43,7 +44,7 @@ fn mission(preset: Preset, vip: [f64; 2]) -> Mission {
 }
 
 /// The blue troopers and the VIP.
-fn people(m: &Mission) -> Vec<EntityId> {
+fn people(m: &EvacRun) -> Vec<EntityId> {
     let mut p = m.brief.team.clone();
     p.push(m.brief.vip);
     p
@@ -70,7 +71,7 @@ struct Seen {
 
 impl Seen {
     /// Looks at the squad once.
-    fn look(&mut self, m: &Mission) {
+    fn look(&mut self, m: &EvacRun) {
         for id in people(m) {
             let t = trooper(m, id);
             let Some(intent) = vitro_tactical::model::Controller::intention(t) else {
@@ -121,7 +122,7 @@ impl Seen {
 
 /// Runs `m` to `end` (or its end), looking at the squad every second; `hook` may change the
 /// world after each second.
-fn watch(m: &mut Mission, end: u64, mut hook: impl FnMut(&mut Mission, &Seen)) -> Seen {
+fn watch(m: &mut EvacRun, end: u64, mut hook: impl FnMut(&mut EvacRun, &Seen)) -> Seen {
     let mut seen = Seen::default();
     let mut t = SimTime::ZERO;
     while t < SimTime::from_secs(end) && m.advance(t) {

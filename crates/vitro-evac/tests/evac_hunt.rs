@@ -8,6 +8,7 @@ mod common;
 use common::{commander, trooper};
 use vitro::entity::EntityId;
 use vitro::time::{SimDuration, SimTime};
+use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::commander::Phase;
 use vitro_evac::agents::trooper::Task;
@@ -118,12 +119,12 @@ fn aircraft_join_the_hunt_once_the_convoy_is_done() {
     );
 }
 
-fn status(m: &Mission, id: EntityId) -> Option<Status> {
+fn status(m: &EvacRun, id: EntityId) -> Option<Status> {
     m.sim.env().conditions.get(id).map(|c| c.status)
 }
 
 /// The lead's turn count, if `id` leads a hunt.
-fn turns_led(m: &Mission, id: EntityId) -> Option<u32> {
+fn turns_led(m: &EvacRun, id: EntityId) -> Option<u32> {
     trooper(m, id).hunt.as_ref().map(|h| h.turns)
 }
 

@@ -4,6 +4,7 @@
 //! and the umpire judges it.
 
 use vitro::time::{SimDuration, SimTime};
+use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::air::Aircraft;
 use vitro_evac::agents::patrol::PatrolUnit;
@@ -15,7 +16,7 @@ const SCENARIO: &str = concat!(
 );
 
 /// The patrol units of the mission's Skeldars, in id order.
-fn units(m: &Mission) -> Vec<PatrolUnit> {
+fn units(m: &EvacRun) -> Vec<PatrolUnit> {
     m.members
         .iter()
         .filter_map(|mem| {

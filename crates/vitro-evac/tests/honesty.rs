@@ -5,6 +5,7 @@
 
 use vitro::entity::EntityId;
 use vitro::time::SimTime;
+use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::air::{AirRole, Aircraft};
 use vitro_tactical::scenario::{EntityType, ScenarioFile};
@@ -17,7 +18,7 @@ const SCENARIO: &str = concat!(
 /// The default mission (discrete level, seed 3) with every camera at 40 m, the UAVs
 /// starting at the extraction point (1.5 km from the team by road) and the radio's loss
 /// probability `loss`.
-fn mission(loss: f64) -> Mission {
+fn mission(loss: f64) -> EvacRun {
     let mut v = ScenarioFile::validate(SCENARIO).expect("the scenario");
     let f = &mut v.loaded.file;
     let far = f.places.extraction;
@@ -36,7 +37,7 @@ fn mission(loss: f64) -> Mission {
 }
 
 /// The UAVs of a mission: id and controller.
-fn aircraft(m: &Mission) -> Vec<(EntityId, &Aircraft)> {
+fn aircraft(m: &EvacRun) -> Vec<(EntityId, &Aircraft)> {
     m.members
         .iter()
         .filter_map(|mem| {
@@ -47,7 +48,7 @@ fn aircraft(m: &Mission) -> Vec<(EntityId, &Aircraft)> {
 }
 
 /// Horizontal distance between two entities, metres (the umpire's view, for the test).
-fn apart(m: &Mission, a: EntityId, b: EntityId) -> f64 {
+fn apart(m: &EvacRun, a: EntityId, b: EntityId) -> f64 {
     let (p, q) = (m.sim.env().pose(a).unwrap(), m.sim.env().pose(b).unwrap());
     libm::hypot(p.pos[0] - q.pos[0], p.pos[1] - q.pos[1])
 }
@@ -92,7 +93,7 @@ fn with_the_radio_dead_a_uav_never_learns_where_the_truck_is() {
     }
     // Knowing it, the scout and the cover UAVs fly to it; not knowing it, they never come
     // near (the Skeldar flies the patrol game's briefed checkpoints whatever it knows).
-    let near = |m: &Mission| {
+    let near = |m: &EvacRun| {
         aircraft(m)
             .iter()
             .filter(|(u, a)| a.role != AirRole::Patrol && apart(m, *u, truck) < 600.0)

@@ -3,8 +3,9 @@
 //! the uninterrupted run, the rigid-body world of the physical level included.
 
 use vitro::time::SimTime;
+use vitro_evac::EvacRun;
 use vitro_evac::Mission;
-use vitro_mission::SnapshotError;
+use vitro_mission::{Run, SnapshotError};
 use vitro_tactical::scenario::Preset;
 
 const SCENARIO: &str = concat!(
@@ -16,7 +17,7 @@ const SCENARIO: &str = concat!(
 /// while the truck drives and the squad walks.
 const END_S: u64 = 600;
 
-fn build(preset: Preset) -> Mission {
+fn build(preset: Preset) -> EvacRun {
     let mut m = Mission::at_fidelity(SCENARIO, Some(42), preset).expect("the scenario builds");
     m.end = SimTime::from_secs(END_S);
     m
@@ -81,7 +82,7 @@ fn save_and_restore_at_the_physical_level_keeps_the_rigid_bodies() {
     let mut probe = build(Preset::Physical);
     let truck = probe.brief.truck;
     let mut t = 0;
-    let speed = |m: &Mission| {
+    let speed = |m: &EvacRun| {
         m.sim
             .env()
             .chassis

@@ -13,6 +13,12 @@
 //!   hash and a human summary, and draws itself for recordings and the viewer
 //!   ([`Scene`] once, a [`Frame`] per sample).
 //!
+//! What every run repeats (the simulation, the settings, the advance loop, the listener, the
+//! trace hash, the snapshot framing) is written once: a mission writes its own part as a
+//! [`session::Play`] and its runs are [`session::Session`]s, each a [`Run`]. Its metrics are
+//! declared once, as a [`MetricTable`]; its scene starts from [`scene::site_scene`] or
+//! [`scene::flat`].
+//!
 //! With the `batch` feature, `batch::MissionRunner` runs any mission as the runs of a
 //! `vitro-batch` experiment, so a mission crate batches its experiments from code too.
 //!
@@ -46,10 +52,11 @@ mod kind;
 mod metric;
 mod registry;
 pub mod scene;
+pub mod session;
 pub mod snapshot;
 
 pub use kind::{KindError, kind_of};
-pub use metric::Metric;
+pub use metric::{Metric, MetricTable, ToMetric};
 pub use registry::{Registry, RegistryError};
 pub use snapshot::{Snapshot, SnapshotError};
 

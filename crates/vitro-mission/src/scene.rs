@@ -1,6 +1,7 @@
 //! The static world of a mission on a town: [`site_scene`] draws a [`Site`] as a [`Scene`]
 //! (its streets, footpaths, buildings, bridges, water and terrain, geo-referenced), and a
-//! mission adds its own layers, e.g. its named places.
+//! mission adds its own layers, e.g. its named places. A mission on no map starts from
+//! [`Scene::flat`] instead.
 //!
 //! ```no_run
 //! # fn scene(site: &vitro_site::site::Site, name: String, start_ms: i64) -> vitro_record::Scene {

@@ -36,6 +36,7 @@ use crate::{BuildOptions, Run};
 use serde::{Deserialize, Serialize};
 use std::io::{Read, Write};
 
+mod agents;
 pub mod briefed;
 mod format;
 pub use format::{FORMAT_VERSION, MAGIC, SnapshotError};

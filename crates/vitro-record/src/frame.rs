@@ -180,6 +180,47 @@ impl Geo {
     }
 }
 
+impl Scene {
+    /// An empty scene named `name` on flat ground over `extent` (`[x0, y0, x1, y1]`, metres),
+    /// simulated time 0 at `start_unix_ms` on the calendar, for a world on no map: the
+    /// geo-reference is an arbitrary one (at latitude and longitude 0), for tools that want
+    /// one. A mission adds its own layers.
+    ///
+    /// ```
+    /// let mut scene = vitro_record::Scene::flat("walk".into(), 0, [-100.0, -10.0, 100.0, 10.0]);
+    /// scene.streets.push(vec![[-100.0, 0.0, 0.0], [100.0, 0.0, 0.0]]);
+    /// assert_eq!(scene.terrain.z, [0.0; 4]);
+    /// ```
+    pub fn flat(name: String, start_unix_ms: i64, extent: [f64; 4]) -> Scene {
+        Scene {
+            name,
+            start_unix_ms,
+            geo: Geo {
+                lat0: 0.0,
+                lon0: 0.0,
+                m_per_deg_lat: 110_574.0,
+                m_per_deg_lon: 111_320.0,
+                offset: [0.0, 0.0],
+                z0: 0.0,
+            },
+            extent,
+            streets: Vec::new(),
+            paths: Vec::new(),
+            buildings: Vec::new(),
+            bridges: Vec::new(),
+            forbidden: Vec::new(),
+            places: BTreeMap::new(),
+            terrain: Heightmap {
+                nx: 2,
+                ny: 2,
+                origin: [extent[0], extent[1]],
+                cell: (extent[2] - extent[0]).max(extent[3] - extent[1]),
+                z: vec![0.0; 4],
+            },
+        }
+    }
+}
+
 /// A building: footprint on the ground and height.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Building {

@@ -11,7 +11,6 @@ use crate::frame::{
     Building, Detection, EntityState, Frame, Geo, Heightmap, Intention, MessageEvent, Scene,
     SensorFootprint, Side,
 };
-use std::collections::BTreeMap;
 use std::f64::consts::TAU;
 
 /// Sample period of [`frame`]: one second.
@@ -37,8 +36,6 @@ pub fn scene() -> Scene {
         }
     }
     let mut scene = Scene {
-        name: "synthetic town".to_owned(),
-        start_unix_ms: 0,
         geo: Geo {
             lat0: 60.466,
             lon0: 26.945,
@@ -47,13 +44,6 @@ pub fn scene() -> Scene {
             offset: [500.0, 500.0],
             z0: 5.0,
         },
-        extent: [0.0, 0.0, 1000.0, 1000.0],
-        streets: Vec::new(),
-        paths: Vec::new(),
-        buildings: Vec::new(),
-        bridges: Vec::new(),
-        forbidden: Vec::new(),
-        places: BTreeMap::new(),
         terrain: Heightmap {
             nx,
             ny,
@@ -61,6 +51,7 @@ pub fn scene() -> Scene {
             cell,
             z,
         },
+        ..Scene::flat("synthetic town".to_owned(), 0, [0.0, 0.0, 1000.0, 1000.0])
     };
     let line = |scene: &Scene, from: [f64; 2], to: [f64; 2], n: usize| -> Vec<[f64; 3]> {
         (0..=n)

@@ -4,6 +4,7 @@
 //! `cargo run --release -p vitro-surveillance --example surv_peek -- [SCENARIO] [SEED] [END_S]`
 
 use vitro::time::SimTime;
+use vitro_mission::Run;
 use vitro_surveillance::Operation;
 use vitro_surveillance::agents::station::Station;
 use vitro_surveillance::agents::uav::Uav;
@@ -51,8 +52,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 println!("  {:8} at ({:.0}, {:.0})", m.name, pos[0], pos[1]);
             }
         }
-        for (t, line) in op.drain_log() {
-            println!("  {:7.1} s  {line}", t.as_secs_f64());
+        for (t, line) in Run::drain_log(&mut op) {
+            println!("  {t:7.1} s  {line}");
         }
         if !going {
             break;

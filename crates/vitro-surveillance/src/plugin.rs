@@ -1,29 +1,29 @@
 //! The surveillance mission as a plug-in of the tools: [`Surveillance`] is the kind
-//! `"surveillance"`, and an [`Operation`] is one of its runs.
+//! `"surveillance"`, and a [`SurveillanceRun`] (the generic run with the mission's
+//! [`Operation`] as its play) is one of its runs.
 
-use crate::referee::Metrics;
-use crate::{Operation, SurveillanceError, scenario};
+use crate::model::Field;
+use crate::net::Net;
+use crate::referee::{self, Metrics};
+use crate::{Operation, SurveillanceError, SurveillanceRun, scenario, snapshot, view};
 use std::path::Path;
-use vitro::sim::Control;
-use vitro::time::{SimDuration, SimTime};
-use vitro_mission::{BuildOptions, Metric, MissionError, Run, RunFailed};
+use vitro::sim::Simulation;
+use vitro::time::SimTime;
+use vitro_mission::session::Play;
+use vitro_mission::{
+    BuildOptions, Metric, MetricTable, MissionError, Run, SnapshotError, metric_table,
+};
 use vitro_record::{Frame, Scene};
-use vitro_tactical::scenario::{Diagnostics, Preset};
+use vitro_tactical::arena::site_digest;
+use vitro_tactical::scenario::Preset;
 
 /// The surveillance mission, registered as `kind = "surveillance"`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Surveillance;
 
-/// Every problem of a scenario, each with its place and the offending line.
-fn diagnostics(d: Diagnostics) -> MissionError {
-    let n = d.len();
-    let problems = if n == 1 { "problem" } else { "problems" };
-    MissionError::Scenario(format!("{n} {problems}\n{}", d.render()))
-}
-
 fn mission_error(e: SurveillanceError) -> MissionError {
     match e {
-        SurveillanceError::Scenario(d) => diagnostics(d),
+        SurveillanceError::Scenario(d) => MissionError::Scenario(d.report()),
         e @ SurveillanceError::Read { .. } => MissionError::Scenario(e.to_string()),
         e @ SurveillanceError::Setup(_) => MissionError::Setup(e.to_string()),
     }
@@ -38,12 +38,9 @@ impl vitro_mission::Mission for Surveillance {
         "a UAV team shares out search sectors by contract net, finds and tracks red units"
     }
 
-    fn fidelity_levels(&self) -> &'static [&'static str] {
-        &Preset::NAMES
-    }
-
     fn validate(&self, path: &Path, text: &str) -> Result<String, MissionError> {
-        let v = scenario::validate_text(path, text).map_err(diagnostics)?;
+        let v =
+            scenario::validate_text(path, text).map_err(|d| MissionError::Scenario(d.report()))?;
         let f = &v.file;
         let count = |red: bool| -> u64 {
             (f.entities.iter())
@@ -76,110 +73,88 @@ impl vitro_mission::Mission for Surveillance {
         Ok(Box::new(run))
     }
 
+    fn fidelity_levels(&self) -> &'static [&'static str] {
+        &Preset::NAMES
+    }
+
     fn metric_names(&self) -> Vec<&'static str> {
-        metrics(&Metrics::default(), 0)
-            .into_iter()
-            .map(|(k, _)| k)
-            .collect()
+        SurveillanceRun::metric_names()
     }
 }
 
-/// The mission's metrics as named values, in summary-column order.
-fn metrics(m: &Metrics, trace: u64) -> Vec<(&'static str, Metric)> {
-    let c = Metric::count;
-    vec![
-        ("red_units", c(u64::from(m.red_units))),
-        ("red_detected", c(u64::from(m.red_detected))),
-        (
-            "mean_time_to_detection_s",
-            m.mean_time_to_detection_s.into(),
-        ),
-        ("max_time_to_detection_s", m.max_time_to_detection_s.into()),
-        (
-            "restricted_time_to_detection_s",
-            Metric::Float(m.restricted_time_to_detection_s),
-        ),
-        ("mean_tracked_share", Metric::Float(m.mean_tracked_share)),
-        ("min_tracked_share", Metric::Float(m.min_tracked_share)),
-        ("messages_sent", c(m.messages_sent)),
-        ("messages_lost", c(m.messages_lost)),
-        ("cnet_messages", c(m.cnet_messages)),
-        ("calls", c(m.calls)),
-        ("awards", c(m.awards)),
-        ("calls_failed", c(m.calls_failed)),
-        ("reallocations", c(m.reallocations)),
-        ("handovers", c(m.handovers)),
-        ("revocations", c(m.revocations)),
-        ("uavs", c(u64::from(m.uavs))),
-        ("uavs_lost", c(u64::from(m.uavs_lost))),
-        ("presumed_lost", c(m.presumed_lost)),
-        ("sectors", c(u64::from(m.sectors))),
-        ("sectors_held", c(u64::from(m.sectors_held))),
-        ("events", c(m.events)),
-        ("sim_time_s", Metric::Float(m.sim_time_s)),
-        ("trace_hash", Metric::Text(format!("{trace:016x}"))),
-    ]
+impl MetricTable for Metrics {
+    fn table(&self) -> Vec<(&'static str, Metric)> {
+        metric_table!(self; red_units, red_detected, mean_time_to_detection_s,
+            max_time_to_detection_s, restricted_time_to_detection_s, mean_tracked_share,
+            min_tracked_share, messages_sent, messages_lost, cnet_messages, calls, awards,
+            calls_failed, reallocations, handovers, revocations, uavs, uavs_lost, presumed_lost,
+            sectors, sectors_held, events, sim_time_s)
+    }
 }
 
-impl Run for Operation {
-    fn name(&self) -> String {
-        self.name.clone()
+impl Play for Operation {
+    type Model = Field;
+    type Metrics = Metrics;
+    type Heard = ();
+
+    fn metrics(run: &SurveillanceRun) -> Metrics {
+        referee::measure(&run.sim, &run.members, &run.lost)
     }
 
-    fn seed(&self) -> u64 {
-        self.seed
+    fn scene(run: &SurveillanceRun) -> Scene {
+        view::scene(run)
     }
 
-    fn end(&self) -> SimTime {
-        self.end
+    fn frame(run: &mut SurveillanceRun, frame: &mut Frame) {
+        view::frame(run, frame);
     }
 
-    fn set_end(&mut self, end: SimTime) {
-        self.end = end;
+    fn message_kind(msg: &Net) -> &'static str {
+        msg.kind()
     }
 
-    fn sample(&self) -> SimDuration {
-        self.sample
+    fn next_stop(&self) -> SimTime {
+        self.losses
+            .get(self.next_loss)
+            .map_or(SimTime::MAX, |l| l.0)
     }
 
-    fn now(&self) -> SimTime {
-        self.sim.now()
+    fn at_stop(run: &mut SurveillanceRun, now: SimTime) {
+        Operation::apply_losses(run, now);
     }
 
-    fn advance(&mut self, until: SimTime) -> Result<bool, RunFailed> {
-        Ok(Operation::advance(self, until))
+    fn drain_log(run: &mut SurveillanceRun) -> Vec<(SimTime, String)> {
+        Operation::drain_log(run)
     }
 
-    fn control(&self) -> Control {
-        self.sim.control()
-    }
-
-    fn trace_hash(&self) -> u64 {
-        self.sim.trace_hash()
-    }
-
-    fn metrics(&self) -> Vec<(&'static str, Metric)> {
-        metrics(&Operation::metrics(self), self.sim.trace_hash())
-    }
-
-    fn report(&self) -> serde_json::Map<String, serde_json::Value> {
-        let mut out: serde_json::Map<String, serde_json::Value> = (Run::metrics(self).into_iter())
-            .filter(|(k, _)| *k != "trace_hash")
-            .map(|(k, v)| (k.to_owned(), serde_json::to_value(v).unwrap_or_default()))
-            .collect();
-        let m = Operation::metrics(self);
+    fn report(run: &SurveillanceRun, m: &Metrics) -> serde_json::Map<String, serde_json::Value> {
+        let mut out = m.json();
         if let Ok(red) = serde_json::to_value(&m.red) {
             out.insert("red".into(), red);
         }
-        let levels: serde_json::Map<String, serde_json::Value> = (self.members.iter())
+        let levels: serde_json::Map<String, serde_json::Value> = (run.members.iter())
             .filter_map(|x| Some((x.kind?.name().to_owned(), x.level.name().into())))
             .collect();
         out.insert("levels".into(), levels.into());
         out
     }
 
-    fn summary(&self) -> Vec<(String, String)> {
-        let m = Operation::metrics(self);
+    fn world(run: &SurveillanceRun) -> u64 {
+        site_digest(&run.team.site)
+    }
+
+    fn save(run: &SurveillanceRun) -> Result<Vec<u8>, SnapshotError> {
+        snapshot::save(run)
+    }
+
+    fn restore(
+        run: &mut SurveillanceRun,
+        state: &[u8],
+    ) -> Result<Simulation<Field>, SnapshotError> {
+        snapshot::restore(run, state)
+    }
+
+    fn summary(_: &SurveillanceRun, m: &Metrics) -> Vec<(String, String)> {
         let opt = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.1} s"));
         vec![
             (
@@ -222,28 +197,5 @@ impl Run for Operation {
                 ),
             ),
         ]
-    }
-
-    fn scene(&self) -> Scene {
-        Operation::scene(self)
-    }
-
-    fn frame(&mut self) -> Frame {
-        Operation::frame(self)
-    }
-
-    fn drain_log(&mut self) -> Vec<(f64, String)> {
-        Operation::drain_log(self)
-            .into_iter()
-            .map(|(t, line)| (t.as_secs_f64(), line))
-            .collect()
-    }
-
-    fn save_state(&self) -> Result<Vec<u8>, vitro_mission::SnapshotError> {
-        Operation::save_state(self)
-    }
-
-    fn restore_state(&mut self, state: &[u8]) -> Result<(), vitro_mission::SnapshotError> {
-        Operation::restore_state(self, state)
     }
 }

@@ -80,30 +80,6 @@ pub(crate) struct Built {
     pub station: Arc<StationBrief>,
 }
 
-fn role_of(t: EntityType) -> Role {
-    match t {
-        EntityType::Truck => Role::Truck,
-        EntityType::Car => Role::Car,
-        EntityType::Ugv => Role::Ugv,
-        EntityType::Trooper => Role::Trooper,
-        EntityType::Vip => Role::Vip,
-        EntityType::Hvt => Role::Hvt,
-        EntityType::Procerus => Role::Procerus,
-        EntityType::Vidar => Role::Vidar,
-        EntityType::Skeldar => Role::Skeldar,
-    }
-}
-
-fn height_of(t: EntityType) -> f64 {
-    match t {
-        EntityType::Truck => 3.2,
-        EntityType::Car => 1.5,
-        EntityType::Ugv => 1.6,
-        EntityType::Trooper | EntityType::Vip | EntityType::Hvt => 1.8,
-        EntityType::Procerus | EntityType::Vidar | EntityType::Skeldar => 1.0,
-    }
-}
-
 /// A main-part node of `g` not in `taken`, at random (from `rng`), or the one nearest to
 /// `at` when given.
 fn node(
@@ -324,8 +300,10 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, SetupError> {
             }
         }
         if let Some(t) = m.kind {
-            w.conditions
-                .insert(m.id, Condition::new(role_of(t), m.side, height_of(t)));
+            w.conditions.insert(
+                m.id,
+                Condition::new(t.into(), m.side, Role::from(t).height()),
+            );
         }
     }
     for m in &members {

@@ -10,7 +10,7 @@ use vitro::time::SimTime;
 use vitro_tactical::world::Body;
 
 /// The body friend-or-foe vision looks at, from the umpire's view of the arena.
-fn body(op: &vitro_surveillance::Operation, id: vitro::entity::EntityId) -> Option<Body> {
+fn body(op: &vitro_surveillance::SurveillanceRun, id: vitro::entity::EntityId) -> Option<Body> {
     let w = op.sim.env();
     let c = w.conditions.get(id)?;
     let p = w.pose(id)?;

@@ -5,6 +5,7 @@
 //! (friend-or-foe vision needs each body's side and height), mission actuators write it
 //! (boarding, fire, capture).
 
+use crate::scenario::EntityType;
 use crate::world::Side;
 use serde::{Deserialize, Serialize};
 use vitro::entity::EntityId;
@@ -32,6 +33,22 @@ pub enum Role {
     Skeldar,
 }
 
+impl From<EntityType> for Role {
+    fn from(t: EntityType) -> Role {
+        match t {
+            EntityType::Truck => Role::Truck,
+            EntityType::Car => Role::Car,
+            EntityType::Ugv => Role::Ugv,
+            EntityType::Trooper => Role::Trooper,
+            EntityType::Vip => Role::Vip,
+            EntityType::Hvt => Role::Hvt,
+            EntityType::Procerus => Role::Procerus,
+            EntityType::Vidar => Role::Vidar,
+            EntityType::Skeldar => Role::Skeldar,
+        }
+    }
+}
+
 impl Role {
     /// Lower-case name, as in scenario files and recordings.
     pub fn name(self) -> &'static str {
@@ -45,6 +62,17 @@ impl Role {
             Role::Procerus => "procerus",
             Role::Vidar => "vidar",
             Role::Skeldar => "skeldar",
+        }
+    }
+    /// The body's height, metres (the top of a vehicle, a person's head, an aircraft's
+    /// airframe): what lines of sight reach.
+    pub fn height(self) -> f64 {
+        match self {
+            Role::Truck => 3.2,
+            Role::Car => 1.5,
+            Role::Ugv => 1.6,
+            Role::Trooper | Role::Vip | Role::Hvt => 1.8,
+            Role::Procerus | Role::Vidar | Role::Skeldar => 1.0,
         }
     }
     /// True for the aircraft.

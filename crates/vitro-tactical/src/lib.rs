@@ -96,6 +96,8 @@ pub mod condition;
 pub mod entity;
 pub mod model;
 pub mod radio;
+#[cfg(feature = "record")]
+pub mod record;
 pub mod scenario;
 pub mod sensor;
 pub mod types;

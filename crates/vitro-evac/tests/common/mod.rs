@@ -3,12 +3,12 @@
 #![allow(dead_code)]
 
 use vitro::entity::EntityId;
-use vitro_evac::Mission;
+use vitro_evac::EvacRun;
 use vitro_evac::agents::commander::Commander;
 use vitro_evac::agents::trooper::Trooper;
 
 /// The truck's commander in a mission.
-pub fn commander(m: &Mission) -> &Commander {
+pub fn commander(m: &EvacRun) -> &Commander {
     m.sim
         .agent(m.brief.truck)
         .and_then(|a| a.as_any().downcast_ref::<Commander>())
@@ -16,7 +16,7 @@ pub fn commander(m: &Mission) -> &Commander {
 }
 
 /// The controller of trooper (or VIP) `id` in a mission.
-pub fn trooper(m: &Mission, id: EntityId) -> &Trooper {
+pub fn trooper(m: &EvacRun, id: EntityId) -> &Trooper {
     m.sim
         .agent(id)
         .and_then(|a| a.as_any().downcast_ref::<Trooper>())

@@ -4,7 +4,7 @@
 /// The magic bytes a snapshot file starts with.
 pub const MAGIC: &[u8; 8] = b"VITROSAV";
 /// The format version this build writes and reads.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Why a snapshot could not be written, read or resumed.
 ///

@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use vitro::time::SimTime;
 use vitro_surveillance::Operation;
+use vitro_surveillance::SurveillanceRun;
 use vitro_surveillance::agents::station::Station;
 use vitro_surveillance::agents::uav::Uav;
 
@@ -38,19 +39,19 @@ pub fn set(t: &mut toml::Table, key: &str, value: toml::Value) {
 }
 
 /// A run of `t` (as if read from the default scenario's path) with `seed`.
-pub fn build(t: &toml::Table, seed: u64) -> Operation {
+pub fn build(t: &toml::Table, seed: u64) -> SurveillanceRun {
     let text = toml::to_string(t).expect("a table prints");
     Operation::from_text(Path::new(&path()), &text, Some(seed), None).expect("the scenario builds")
 }
 
 /// Runs `op` to `s` seconds.
-pub fn run_to(op: &mut Operation, s: u64) {
+pub fn run_to(op: &mut SurveillanceRun, s: u64) {
     let until = SimTime::from_secs(s);
     while op.sim.now() < until && op.advance(until) {}
 }
 
 /// The station of a run.
-pub fn station(op: &Operation) -> &Station {
+pub fn station(op: &SurveillanceRun) -> &Station {
     op.sim
         .agent(op.members[0].id)
         .and_then(|a| a.as_any().downcast_ref::<Station>())
@@ -58,7 +59,7 @@ pub fn station(op: &Operation) -> &Station {
 }
 
 /// The UAVs of a run, with their names.
-pub fn uavs(op: &Operation) -> Vec<(String, &Uav)> {
+pub fn uavs(op: &SurveillanceRun) -> Vec<(String, &Uav)> {
     op.members
         .iter()
         .filter_map(|m| {

@@ -73,6 +73,17 @@ macro_rules! arena_state {
                 arena.fill_plans(state.plans)?;
                 Ok(arena)
             }
+            /// An arena of this one's static world (site, roads, types, calibration) in a
+            /// saved state: a fresh build's arena taking the state of a saved run.
+            ///
+            /// # Errors
+            /// [`RestoreError`] if the state's plans do not fit its trips and routes.
+            pub fn rebuilt(&self, state: ArenaState) -> Result<Arena, RestoreError> {
+                let (site, roads, types) = (self.site.clone(), self.roads.clone(), self.types.clone());
+                let mut arena = Arena::restore(site, roads, types, state)?;
+                arena.calibration = self.calibration.clone();
+                Ok(arena)
+            }
         }
     };
 }

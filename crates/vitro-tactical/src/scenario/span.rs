@@ -122,6 +122,14 @@ impl Diagnostics {
         parts.join("\n\n")
     }
 
+    /// The count of problems on a line (`1 problem`, `3 problems`), then each
+    /// [rendered](Self::render): what a tool prints for a refused file.
+    pub fn report(&self) -> String {
+        let n = self.len();
+        let problems = if n == 1 { "problem" } else { "problems" };
+        format!("{n} {problems}\n{}", self.render())
+    }
+
     /// Number of problems.
     pub fn len(&self) -> usize {
         self.0.len()
