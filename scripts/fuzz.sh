@@ -55,7 +55,10 @@ fi
 built=$(date +%s)
 echo "fuzz build ($profile, features: $features): $((built - started)) s"
 triple=$(rustc -vV | sed -n 's/^host: //p')
-bindir="$CARGO_TARGET_DIR/$triple/$profile"
+# Cargo's dev profile builds into debug/.
+outdir=$profile
+[ "$profile" = dev ] && outdir=debug
+bindir="$CARGO_TARGET_DIR/$triple/$outdir"
 
 # Seeds: repository files matching each target's patterns (git ls-files globs).
 seeds() {
