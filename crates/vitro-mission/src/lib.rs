@@ -17,7 +17,7 @@
 //! trace hash, the snapshot framing) is written once: a mission writes its own part as a
 //! [`session::Play`] and its runs are [`session::Session`]s, each a [`Run`]. Its metrics are
 //! declared once, as a [`MetricTable`]; its scene starts from [`scene::site_scene`] or
-//! [`scene::flat`].
+//! [`Scene::flat`].
 //!
 //! With the `batch` feature, `batch::MissionRunner` runs any mission as the runs of a
 //! `vitro-batch` experiment, so a mission crate batches its experiments from code too.
