@@ -77,14 +77,19 @@ async fn command(ws: &mut Ws, cmd: &str) {
     ws.send(Message::Text(cmd.into())).await.expect("send");
 }
 
+/// The trace hash `vitro run` prints for `scenario` run to `until`, unwatched.
+fn unwatched_hash(scenario: &str, until: &str) -> String {
+    let (code, out, err) = vitro(&["run", scenario, "--until", until, "--quiet"]);
+    // 4: the mission failed in the time given; the trace hash is printed all the same.
+    assert!(code == 0 || code == 4, "{err}");
+    out.trim().to_owned()
+}
+
 /// Runs `scenario` to `until` with `vitro run`, then with `vitro view` while a client
 /// watches, pauses, steps once and resumes it: the step fires one event and both runs end
 /// with the same trace hash. Returns the scene message.
 async fn watched_equals_unwatched(scenario: &str, until: &str, streets: usize) -> Value {
-    let (code, out, err) = vitro(&["run", scenario, "--until", until, "--quiet"]);
-    // 4: the mission failed in the time given; the trace hash is printed all the same.
-    assert!(code == 0 || code == 4, "{err}");
-    let unwatched = out.trim().to_owned();
+    let unwatched = unwatched_hash(scenario, until);
 
     let mut server = Server::start(&[
         scenario,
@@ -275,9 +280,7 @@ fn foxglove_addr(line: &str) -> String {
 async fn a_run_served_to_foxglove_and_watched_has_the_trace_hash_of_vitro_run() {
     use tokio_tungstenite::tungstenite::client::IntoClientRequest;
     let (scenario, until) = ("scenarios/evacuation.toml", "120");
-    let (code, out, err) = vitro(&["run", scenario, "--until", until, "--quiet"]);
-    assert!(code == 0 || code == 4, "{err}");
-    let unwatched = out.trim().to_owned();
+    let unwatched = unwatched_hash(scenario, until);
 
     let mut server = Server::start(&[
         scenario,

@@ -70,7 +70,17 @@ pub async fn serve_with(
     hosts: HostPolicy,
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> Result<(), ViewError> {
-    axum::serve(listener, router(feed, hosts))
+    serve_router(listener, router(feed, hosts), shutdown).await
+}
+
+/// Serves `app` on `listener` until `shutdown` completes: the page viewer's and the Foxglove
+/// server's common end.
+pub(crate) async fn serve_router(
+    listener: TcpListener,
+    app: Router,
+    shutdown: impl Future<Output = ()> + Send + 'static,
+) -> Result<(), ViewError> {
+    axum::serve(listener, app)
         .with_graceful_shutdown(shutdown)
         .await
         .map_err(ViewError::Serve)

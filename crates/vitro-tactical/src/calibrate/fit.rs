@@ -49,8 +49,8 @@ pub fn runs_needed(trips: &[Trip], to: &[Level]) -> usize {
 pub fn least_squares<const N: usize>(x: &[[f64; N]], y: &[f64], prior: [f64; N]) -> [f64; N] {
     let n = x.len().min(y.len());
     let (x, y) = (&x[..n], &y[..n]);
-    let scale = |c: usize| x.iter().map(|r| r[c] * r[c]).sum::<f64>();
-    let cols: Vec<usize> = (0..N).filter(|&c| scale(c) > 0.0).collect();
+    let scale: [f64; N] = std::array::from_fn(|c| x.iter().map(|r| r[c] * r[c]).sum());
+    let cols: Vec<usize> = (0..N).filter(|&c| scale[c] > 0.0).collect();
     let k = cols.len();
     let mut a = nalgebra::DMatrix::zeros(n + k, k);
     let mut b = nalgebra::DVector::zeros(n + k);
@@ -61,7 +61,7 @@ pub fn least_squares<const N: usize>(x: &[[f64; N]], y: &[f64], prior: [f64; N])
         b[i] = *yi;
     }
     for (j, &c) in cols.iter().enumerate() {
-        let w = (1e-3 * scale(c).max(1e-6)).sqrt();
+        let w = (1e-3 * scale[c].max(1e-6)).sqrt();
         a[(n + j, j)] = w;
         b[n + j] = w * prior[c];
     }

@@ -70,10 +70,7 @@ pub async fn serve(
     hosts: HostPolicy,
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> Result<(), ViewError> {
-    axum::serve(listener, router(run, hosts))
-        .with_graceful_shutdown(shutdown)
-        .await
-        .map_err(ViewError::Serve)
+    crate::server::serve_router(listener, router(run, hosts), shutdown).await
 }
 
 /// The first message of every connection.
