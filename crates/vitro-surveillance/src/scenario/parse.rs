@@ -5,12 +5,9 @@ use super::{
     AllocationSpec, AreaSpec, FailureSpec, LossSpec, RedSpec, SearchSpec, SensorSpec, StationSpec,
     SurveillanceFile, TeamSpec, TrackingSpec,
 };
-use serde::Deserialize as _;
-use serde::de::DeserializeOwned;
 use std::path::Path;
-use toml::Spanned;
-use toml::de::{DeTable, DeValue, ValueDeserializer};
 use vitro::time::UtcTime;
+use vitro_tactical::scenario::tables::{self, Layout, each, one};
 use vitro_tactical::scenario::{
     ChannelSpec, Diagnostic, EndSpec, EntitySpec, FidelitySpec, RecordSpec, SiteSpec,
 };
@@ -40,120 +37,45 @@ pub const TOP_LEVEL_KEYS: [&str; 20] = [
     "record",
 ];
 
-/// The keys a file must have.
-const REQUIRED: [&str; 6] = ["name", "seed", "end", "site", "station", "entity"];
+/// The top level of a surveillance scenario: each key with the check of its value, and the
+/// keys a file must have.
+const LAYOUT: Layout<'static> = Layout {
+    keys: &[
+        ("kind", one::<String>),
+        ("name", one::<String>),
+        ("seed", one::<u64>),
+        ("start", one::<UtcTime>),
+        ("end", one::<EndSpec>),
+        ("site", one::<SiteSpec>),
+        ("fidelity", one::<FidelitySpec>),
+        ("station", one::<StationSpec>),
+        ("entity", each::<EntitySpec>),
+        ("search", one::<SearchSpec>),
+        ("area", each::<AreaSpec>),
+        ("loss", each::<LossSpec>),
+        ("failures", one::<FailureSpec>),
+        ("team", one::<TeamSpec>),
+        ("sensors", one::<SensorSpec>),
+        ("tracking", one::<TrackingSpec>),
+        ("allocation", one::<AllocationSpec>),
+        ("red", one::<RedSpec>),
+        ("channel", one::<ChannelSpec>),
+        ("record", one::<RecordSpec>),
+    ],
+    required: &[
+        ("name", "a top-level `name`"),
+        ("seed", "a top-level `seed`"),
+        ("end", "a top-level `end`"),
+        ("site", "a top-level `site`"),
+        ("station", "a `[station]` table with its `start`"),
+        ("entity", "at least one `[[entity]]` table"),
+    ],
+};
 
-/// Parses `text` (read from `file`) into a scenario, or every syntax or type error found:
-/// all syntax errors the parser recovers from; else, if the whole document does not fit
-/// the types, each top-level key and each array item on its own.
+/// Parses `text` (read from `file`) into a scenario, or every syntax or type error found
+/// (`vitro_tactical::scenario::tables::parse`).
 pub(crate) fn parse(file: &Path, text: &str) -> Result<SurveillanceFile, Vec<Diagnostic>> {
-    let (root, errors) = DeTable::parse_recoverable(text);
-    if !errors.is_empty() {
-        return Err(errors
-            .iter()
-            .map(|e| Diagnostic::from_toml(file, text, e))
-            .collect());
-    }
-    let whole = match SurveillanceFile::deserialize(toml::de::Deserializer::from(root.clone())) {
-        Ok(scenario) => return Ok(scenario),
-        Err(e) => Diagnostic::from_toml(file, text, &e),
-    };
-    let mut out = Vec::new();
-    let table = root.get_ref();
-    for (key, value) in table.iter() {
-        let v = value.clone();
-        let result = match key.get_ref().as_ref() {
-            "kind" | "name" => part::<String>(v),
-            "seed" => part::<u64>(v),
-            "start" => {
-                let span = v.span();
-                if let Err(e) = part::<UtcTime>(v) {
-                    out.push(Diagnostic::from_toml_or_at(file, text, &e, Some(span)));
-                }
-                Ok(())
-            }
-            "end" => part::<EndSpec>(v),
-            "site" => part::<SiteSpec>(v),
-            "fidelity" => part::<FidelitySpec>(v),
-            "station" => part::<StationSpec>(v),
-            "entity" => items::<EntitySpec>(v, file, text, &mut out),
-            "search" => part::<SearchSpec>(v),
-            "area" => items::<AreaSpec>(v, file, text, &mut out),
-            "loss" => items::<LossSpec>(v, file, text, &mut out),
-            "failures" => part::<FailureSpec>(v),
-            "team" => part::<TeamSpec>(v),
-            "sensors" => part::<SensorSpec>(v),
-            "tracking" => part::<TrackingSpec>(v),
-            "allocation" => part::<AllocationSpec>(v),
-            "red" => part::<RedSpec>(v),
-            "channel" => part::<ChannelSpec>(v),
-            "record" => part::<RecordSpec>(v),
-            other => {
-                out.push(Diagnostic::new(
-                    file,
-                    text,
-                    Some(key.span()),
-                    format!("unknown field `{other}`"),
-                    Some(one_of(&TOP_LEVEL_KEYS)),
-                ));
-                Ok(())
-            }
-        };
-        if let Err(e) = result {
-            out.push(Diagnostic::from_toml(file, text, &e));
-        }
-    }
-    for key in REQUIRED {
-        if !table.contains_key(key) {
-            let what = match key {
-                "entity" => "at least one `[[entity]]` table".to_owned(),
-                "station" => "a `[station]` table with its `start`".to_owned(),
-                _ => format!("a top-level `{key}`"),
-            };
-            out.push(Diagnostic::new(
-                file,
-                text,
-                Some(0..0),
-                format!("missing field `{key}`"),
-                Some(what),
-            ));
-        }
-    }
-    if out.is_empty() {
-        out.push(whole);
-    }
-    Err(out)
-}
-
-/// Deserializes one part of the document on its own.
-fn part<T: DeserializeOwned>(value: Spanned<DeValue<'_>>) -> Result<(), toml::de::Error> {
-    T::deserialize(ValueDeserializer::from(value)).map(|_| ())
-}
-
-/// Deserializes each item of an array of tables on its own (every bad item reported).
-fn items<T: DeserializeOwned>(
-    value: Spanned<DeValue<'_>>,
-    file: &Path,
-    text: &str,
-    out: &mut Vec<Diagnostic>,
-) -> Result<(), toml::de::Error> {
-    match value.get_ref() {
-        DeValue::Array(items) => {
-            for item in items {
-                if let Err(e) = part::<T>(item.clone()) {
-                    out.push(Diagnostic::from_toml(file, text, &e));
-                }
-            }
-            Ok(())
-        }
-        _ => part::<Vec<T>>(value),
-    }
-}
-
-/// "one of `a`, `b`, `c`".
-fn one_of(keys: &[&str]) -> String {
-    let keys: Vec<String> = keys.iter().map(|k| format!("`{k}`")).collect();
-    format!("one of {}", keys.join(", "))
+    tables::parse(file, text, &LAYOUT)
 }
 
 #[cfg(test)]
@@ -174,6 +96,11 @@ type = "vidar"
 side = "blue"
 altitude_m = 100
 "#;
+
+    #[test]
+    fn the_layout_lists_the_top_level_keys() {
+        assert_eq!(LAYOUT.key_names(), TOP_LEVEL_KEYS);
+    }
 
     #[test]
     fn a_good_file_parses() {

@@ -5,17 +5,15 @@
 //! `[[entity]]` on its own; then the semantic checks of [`check`](super::check).
 
 use super::check::{check_file, check_site};
+use super::checker::resolve;
 use super::loaded::Loaded;
 use super::span::{Diagnostic, Diagnostics, SourceMap};
+use super::tables::{self, Layout, each, one};
 use super::{
     ChannelSpec, EndSpec, EntitySpec, FidelitySpec, FormationSpec, MissionSpec, PatrolSpec, Places,
-    PursuitSpec, RecordSpec, RepairSpec, ScenarioFile, SensorsSpec, SiteSpec,
+    PursuitSpec, RecordSpec, RepairSpec, ScenarioFile, SensorsSpec, SiteSpec, TieOrder,
 };
-use serde::Deserialize as _;
-use serde::de::DeserializeOwned;
 use std::path::Path;
-use toml::Spanned;
-use toml::de::{DeTable, DeValue, ValueDeserializer};
 use vitro::time::UtcTime;
 use vitro_site::site::Site;
 
@@ -122,7 +120,7 @@ impl ScenarioFile {
     }
 }
 
-fn one(d: Diagnostic) -> Diagnostics {
+fn single(d: Diagnostic) -> Diagnostics {
     Diagnostics(vec![d])
 }
 
@@ -130,7 +128,7 @@ fn one(d: Diagnostic) -> Diagnostics {
 /// that stopped the parse.
 fn read(path: &Path) -> Result<(Loaded, Vec<Diagnostic>), Diagnostics> {
     let source = std::fs::read_to_string(path).map_err(|e| {
-        one(Diagnostic::new(
+        single(Diagnostic::new(
             path,
             "",
             None,
@@ -144,14 +142,7 @@ fn read(path: &Path) -> Result<(Loaded, Vec<Diagnostic>), Diagnostics> {
 /// [`read`] of `source` as if it were the file at `path` (paths resolve from its directory).
 fn read_text(path: &Path, source: String) -> Result<(Loaded, Vec<Diagnostic>), Diagnostics> {
     let file = parse(path, &source).map_err(Diagnostics::new)?;
-    let dir = path.parent().unwrap_or(Path::new(""));
-    let resolve = |p: &Path| {
-        let joined = dir.join(p);
-        joined
-            .canonicalize()
-            .or_else(|_| std::path::absolute(&joined))
-            .unwrap_or(joined)
-    };
+    let resolve = |p: &Path| resolve(path, p);
     let loaded = Loaded {
         map: resolve(&file.site.map),
         terrain: resolve(&file.site.terrain),
@@ -168,101 +159,50 @@ fn read_text(path: &Path, source: String) -> Result<(Loaded, Vec<Diagnostic>), D
     Ok((loaded, problems))
 }
 
+/// The top level of an evacuation scenario: its keys in the order of [`ScenarioFile`]'s
+/// fields, each with the check of its value, and the keys a file must have.
+const LAYOUT: Layout<'static> = Layout {
+    keys: &[
+        ("kind", one::<String>),
+        ("name", one::<String>),
+        ("seed", one::<u64>),
+        ("start", one::<UtcTime>),
+        ("tie_order", one::<TieOrder>),
+        ("end", one::<EndSpec>),
+        ("site", one::<SiteSpec>),
+        ("fidelity", one::<FidelitySpec>),
+        ("places", one::<Places>),
+        ("entity", each::<EntitySpec>),
+        ("mission", one::<MissionSpec>),
+        ("sensors", one::<SensorsSpec>),
+        ("channel", one::<ChannelSpec>),
+        ("patrol", one::<PatrolSpec>),
+        ("pursuit", one::<PursuitSpec>),
+        ("repair", one::<RepairSpec>),
+        ("formation", one::<FormationSpec>),
+        ("record", one::<RecordSpec>),
+    ],
+    required: &[
+        ("name", "a top-level `name`"),
+        ("seed", "a top-level `seed`"),
+        ("end", "a top-level `end`"),
+        ("site", "a top-level `site`"),
+        ("places", "a top-level `places`"),
+        ("entity", "at least one `[[entity]]` table"),
+    ],
+};
+
 /// Parses `text` into a scenario, or every syntax or type error found.
 pub(crate) fn parse(file: &Path, text: &str) -> Result<ScenarioFile, Vec<Diagnostic>> {
-    let (root, errors) = DeTable::parse_recoverable(text);
-    if !errors.is_empty() {
-        return Err(errors
-            .iter()
-            .map(|e| Diagnostic::from_toml(file, text, e))
-            .collect());
-    }
-    let whole = match ScenarioFile::deserialize(toml::de::Deserializer::from(root.clone())) {
-        Ok(scenario) => return Ok(scenario),
-        Err(e) => Diagnostic::from_toml(file, text, &e),
-    };
-    // The first error hides the others: try each part on its own.
-    let mut out = Vec::new();
-    let table = root.get_ref();
-    for (key, value) in table.iter() {
-        let v = value.clone();
-        let result = match key.get_ref().as_ref() {
-            "kind" | "name" => part::<String>(v),
-            "seed" => part::<u64>(v),
-            "start" => {
-                let span = v.span();
-                if let Err(e) = part::<UtcTime>(v) {
-                    out.push(Diagnostic::from_toml_or_at(file, text, &e, Some(span)));
-                }
-                Ok(())
-            }
-            "end" => part::<EndSpec>(v),
-            "site" => part::<SiteSpec>(v),
-            "fidelity" => part::<FidelitySpec>(v),
-            "places" => part::<Places>(v),
-            "entity" => match v.get_ref() {
-                DeValue::Array(items) => {
-                    for item in items {
-                        if let Err(e) = part::<EntitySpec>(item.clone()) {
-                            out.push(Diagnostic::from_toml(file, text, &e));
-                        }
-                    }
-                    Ok(())
-                }
-                _ => part::<Vec<EntitySpec>>(v),
-            },
-            "mission" => part::<MissionSpec>(v),
-            "sensors" => part::<SensorsSpec>(v),
-            "channel" => part::<ChannelSpec>(v),
-            "patrol" => part::<PatrolSpec>(v),
-            "pursuit" => part::<PursuitSpec>(v),
-            "repair" => part::<RepairSpec>(v),
-            "formation" => part::<FormationSpec>(v),
-            "record" => part::<RecordSpec>(v),
-            other => {
-                out.push(Diagnostic::new(
-                    file,
-                    text,
-                    Some(key.span()),
-                    format!("unknown field `{other}`"),
-                    Some(one_of(&TOP_LEVEL_KEYS)),
-                ));
-                Ok(())
-            }
-        };
-        if let Err(e) = result {
-            out.push(Diagnostic::from_toml(file, text, &e));
-        }
-    }
-    for key in ["name", "seed", "end", "site", "places", "entity"] {
-        if !table.contains_key(key) {
-            let what = if key == "entity" {
-                "at least one `[[entity]]` table".to_owned()
-            } else {
-                format!("a top-level `{key}`")
-            };
-            out.push(Diagnostic::new(
-                file,
-                text,
-                Some(0..0),
-                format!("missing field `{key}`"),
-                Some(what),
-            ));
-        }
-    }
-    if out.is_empty() {
-        out.push(whole);
-    }
-    Err(out)
+    tables::parse(file, text, &LAYOUT)
 }
 
-/// Deserializes one part of the document on its own.
-fn part<T: DeserializeOwned>(value: Spanned<DeValue<'_>>) -> Result<(), toml::de::Error> {
-    T::deserialize(ValueDeserializer::from(value)).map(|_| ())
-}
+#[cfg(test)]
+mod layout_tests {
+    use super::*;
 
-/// "one of `a`, `b`, `c`".
-fn one_of(keys: &[&str]) -> String {
-    let keys: Vec<String> = keys.iter().map(|k| format!("`{k}`")).collect();
-    format!("one of {}", keys.join(", "))
+    #[test]
+    fn the_layout_lists_the_top_level_keys() {
+        assert_eq!(LAYOUT.key_names(), TOP_LEVEL_KEYS);
+    }
 }

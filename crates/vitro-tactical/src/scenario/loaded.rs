@@ -1,13 +1,12 @@
 //! A scenario file read and checked, with its paths resolved: what building its site needs.
 
 use super::ScenarioFile;
+use super::checker::SiteFiles;
 use super::span::{Diagnostics, SourceMap};
 use crate::calibrate::{Calibration, site_fingerprint, types_fingerprint};
 use crate::types::TypeBook;
 use std::path::PathBuf;
-use vitro_site::map::{MapConfig, TownMap};
-use vitro_site::site::{Site, SiteConfig};
-use vitro_site::terrain::Terrain;
+use vitro_site::site::Site;
 
 /// A scenario file read and checked, with its paths resolved.
 #[derive(Clone, Debug)]
@@ -52,38 +51,19 @@ impl Loaded {
         Ok(Some(cal))
     }
 
+    /// The scenario's `[site]` files.
+    pub fn site_files(&self) -> SiteFiles {
+        SiteFiles {
+            map: self.map.clone(),
+            terrain: self.terrain.clone(),
+        }
+    }
+
     /// Builds the town on its terrain at the scenario's offset; problems point at `[site]`.
     pub fn site(&self) -> Result<Site, Diagnostics> {
         let map = SourceMap::new(&self.path, &self.source);
-        let town = TownMap::load(&self.map, &MapConfig::default()).map_err(|e| {
-            Diagnostics(vec![map.at(
-                "site.map",
-                format!("cannot load the map: {e}"),
-                "an OpenStreetMap .osm.pbf file",
-            )])
-        })?;
-        let ground = Terrain::load(&self.terrain).map_err(|e| {
-            Diagnostics(vec![map.at(
-                "site.terrain",
-                format!("cannot load the terrain: {e}"),
-                "an ESRI ASCII grid (.asc) or a GeoTIFF",
-            )])
-        })?;
-        let config = SiteConfig {
-            offset: self.file.site.offset,
-            ..SiteConfig::default()
-        };
-        Site::new(town, ground, &config).map_err(|e| {
-            let key = if self.file.site.offset.is_some() {
-                "site.offset"
-            } else {
-                "site.terrain"
-            };
-            Diagnostics(vec![map.at(
-                key,
-                format!("cannot set the town on the terrain: {e}"),
-                "an offset that keeps the whole town on the terrain",
-            )])
-        })
+        (self.site_files())
+            .load(&self.file.site, &map)
+            .map_err(|d| Diagnostics(vec![*d]))
     }
 }

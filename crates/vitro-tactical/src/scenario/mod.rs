@@ -31,12 +31,14 @@
 //! ```
 
 mod check;
+pub mod checker;
 mod kind;
 mod load;
 mod loaded;
 mod span;
+pub mod tables;
 
-pub use check::{ALTITUDE_M, MAX_COUNT, MAX_END_S};
+pub use checker::{ALTITUDE_M, MAX_COUNT, MAX_END_S};
 pub use load::{TOP_LEVEL_KEYS, Validated};
 pub use loaded::Loaded;
 pub use span::{Diagnostic, Diagnostics, SourceMap};
