@@ -69,8 +69,41 @@ fn record_head<R: Read + Seek>(r: &mut R, offset: u64, file_len: u64) -> Option<
     (end <= file_len).then_some((head[0], len))
 }
 
+/// Length of the footer record (opcode, length, summary start, summary offset start, CRC).
+const FOOTER: u64 = PREFIX + 20;
+
+/// True unless the summary section holds a record that a summary never has and that mcap's
+/// summary reader mishandles: a chunk (it reads a chunk's records past the chunk's end), or a
+/// record that overruns the section. A file without a summary passes.
+fn summary_section_is_plain<R: Read + Seek>(r: &mut R, file_len: u64) -> bool {
+    let magic = mcap::MAGIC.len() as u64;
+    let Some(footer) = file_len.checked_sub(magic + FOOTER) else {
+        return true; // too short for a footer: the summary reader says so
+    };
+    let Some(start) = read_at(r, footer + PREFIX, 8)
+        .ok()
+        .and_then(|b| Some(u64::from_le_bytes(b.try_into().ok()?)))
+    else {
+        return true;
+    };
+    if start == 0 {
+        return true;
+    }
+    let mut at = start;
+    while at < footer {
+        match record_head(r, at, footer) {
+            Some((op::CHUNK, _)) | None => return false,
+            Some((_, len)) => at += PREFIX + len,
+        }
+    }
+    true
+}
+
 /// The summary section, if the file has a readable one.
 fn read_summary<R: Read + Seek>(r: &mut R, file_len: u64) -> Option<mcap::Summary> {
+    if !summary_section_is_plain(r, file_len) {
+        return None;
+    }
     let mut reader =
         SummaryReader::new_with_options(SummaryReaderOptions::default().with_file_size(file_len));
     while let Some(event) = reader.next_event() {

@@ -108,3 +108,12 @@ fn a_frame_that_does_not_decode_names_its_time() {
         "{err:?}"
     );
 }
+
+/// A file whose footer points its summary section at a chunk (mcap's summary reader once
+/// read the chunk's records past its end and overflowed): the summary is not trusted and
+/// the file is scanned, which finds no recording.
+#[test]
+fn a_summary_section_holding_a_chunk_is_not_trusted() {
+    let bytes = include_bytes!("fuzz/summary_with_chunk.mcap");
+    assert!(Replay::from_reader(Cursor::new(&bytes[..])).is_err());
+}

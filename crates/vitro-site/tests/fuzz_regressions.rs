@@ -58,3 +58,31 @@ fn a_node_off_the_globe_is_malformed() {
     let m = malformed(include_bytes!("fuzz/osm_pbf_off_the_globe.pbf"));
     assert!(m.contains("node 1") && m.contains("off the globe"), "{m}");
 }
+
+/// An ESRI ASCII header that announces more cells than its text can hold (here 2^32-odd
+/// rows): refused before the grid is allocated, not an allocation of hundreds of gigabytes.
+#[test]
+fn an_asc_header_announcing_more_cells_than_the_text_holds_is_refused() {
+    let text = include_str!("fuzz/terrain_asc_huge_header.asc");
+    let e = vitro_site::terrain::Terrain::parse_asc(text).expect_err("corrupt");
+    assert!(e.to_string().contains("cells announced"), "{e}");
+    let e = vitro_site::terrain::Terrain::parse_asc(
+        "ncols 100000\nnrows 100000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n",
+    )
+    .expect_err("too few values for the header");
+    assert!(e.to_string().contains("cells announced"), "{e}");
+}
+
+/// A GeoTIFF whose SampleFormat tag holds no value (the decoder once indexed into it).
+#[test]
+fn a_geotiff_with_an_empty_sample_format_is_an_error() {
+    let path = std::env::temp_dir().join(format!("vitro-fuzz-{}.tif", std::process::id()));
+    std::fs::write(
+        &path,
+        include_bytes!("fuzz/geotiff_empty_sample_format.tif"),
+    )
+    .unwrap();
+    let r = vitro_site::terrain::Terrain::load(&path);
+    std::fs::remove_file(&path).unwrap();
+    assert!(r.is_err());
+}

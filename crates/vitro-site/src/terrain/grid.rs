@@ -164,8 +164,19 @@ impl Grid {
         let half = |c: bool| if c { cellsize / 2.0 } else { 0.0 };
         let origin = [need(2)? - half(centre[0]), need(3)? - half(centre[1])];
         let nodata = header[5];
-        let mut values = vec![f64::NAN; ncols * nrows];
-        let total = ncols * nrows;
+        // Each value takes at least one character of the text: a header that announces more
+        // cells than the text can hold is refused before the grid is allocated.
+        let total = ncols
+            .checked_mul(nrows)
+            .filter(|&n| n <= text.len())
+            .ok_or_else(|| {
+                TerrainError::Invalid(format!(
+                    "{ncols} x {nrows} cells announced, more than the {} characters of the \
+                     file can hold",
+                    text.len()
+                ))
+            })?;
+        let mut values = vec![f64::NAN; total];
         let mut k = 0;
         for (line, col, tok) in std::iter::once(first_value).chain(tokens) {
             if k == total {
