@@ -421,3 +421,23 @@ fn the_mission_needs_its_team() {
     );
     assert_eq!(d.len(), 4, "{text}");
 }
+
+/// A file that is not a scenario (here thousands of broken lines) gets the first
+/// `MAX_PROBLEMS` problems and a count of the rest, not one line per problem.
+#[test]
+fn a_file_with_thousands_of_problems_reports_the_first_hundred() {
+    use vitro_tactical::scenario::{MAX_PROBLEMS, ScenarioFile};
+    let text = "name = \"x\"\n".to_owned() + &"key = = 1\n".repeat(5000);
+    let e = ScenarioFile::validate_text("/nonexistent/many.toml", &text).unwrap_err();
+    assert_eq!(e.0.len(), MAX_PROBLEMS + 1, "{}", e.report());
+    let more =
+        e.0.iter()
+            .find(|d| d.position.is_none())
+            .expect("a count of the rest");
+    let n: usize = more.message.split(' ').next().unwrap().parse().unwrap();
+    assert!(n >= 4900, "{}", more.message);
+    assert!(
+        more.message
+            .ends_with("more problems not shown (the first 100 found are)")
+    );
+}

@@ -29,7 +29,7 @@
 //! ]);
 //! ```
 
-use super::span::{Diagnostic, SourceMap};
+use super::span::{Diagnostic, MAX_PROBLEMS, SourceMap};
 use super::{
     ChannelSpec, EndSpec, EntitySpec, EntityType, FidelitySpec, RecordSpec, SiteSpec, VisionSpec,
 };
@@ -55,6 +55,8 @@ pub struct Checker<'a> {
     map: &'a SourceMap<'a>,
     entities: &'a [EntitySpec],
     out: Vec<Diagnostic>,
+    /// Problems found past [`MAX_PROBLEMS`], counted only.
+    dropped: usize,
 }
 
 impl<'a> Checker<'a> {
@@ -65,24 +67,40 @@ impl<'a> Checker<'a> {
             map,
             entities,
             out: Vec::new(),
+            dropped: 0,
         }
     }
 
-    /// The problems found, in the order they were found.
-    pub fn finish(self) -> Vec<Diagnostic> {
+    /// The problems found, in the order they were found (at most [`MAX_PROBLEMS`], then a
+    /// count of the rest).
+    pub fn finish(mut self) -> Vec<Diagnostic> {
+        if self.dropped > 0 {
+            self.out
+                .push(Diagnostic::more(self.map.file(), self.dropped));
+        }
         self.out
     }
 
     /// Adds a problem: `message` at the key `path` (`"channel.loss"`, `"entity.0.count"`),
     /// with what was expected.
     pub fn push(&mut self, path: &str, message: String, expected: &str) {
-        self.out.push(self.map.at(path, message, expected));
+        if self.out.len() < MAX_PROBLEMS {
+            self.out.push(self.map.at(path, message, expected));
+        } else {
+            self.dropped += 1;
+        }
     }
 
     /// Adds problems found elsewhere (a program the scenario names, a site that did not
     /// build).
     pub fn extend(&mut self, problems: impl IntoIterator<Item = Diagnostic>) {
-        self.out.extend(problems);
+        for d in problems {
+            if self.out.len() < MAX_PROBLEMS {
+                self.out.push(d);
+            } else {
+                self.dropped += 1;
+            }
+        }
     }
 
     /// The key at `path` for a message: `` `channel.loss` ``, or `` `count` of entity

@@ -41,7 +41,7 @@ pub mod tables;
 pub use checker::{ALTITUDE_M, MAX_COUNT, MAX_END_S};
 pub use load::{TOP_LEVEL_KEYS, Validated};
 pub use loaded::Loaded;
-pub use span::{Diagnostic, Diagnostics, SourceMap};
+pub use span::{Diagnostic, Diagnostics, MAX_PROBLEMS, SourceMap};
 
 use crate::entity::Level;
 use crate::sensor::FriendFoeVision;

@@ -11,6 +11,11 @@ use std::path::{Path, PathBuf};
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
+/// Most problems reported for one file: past them, a file is rarely the file meant (a
+/// binary, a file of another kind), and each problem costs a pass over the text. The rest are
+/// counted in one [`Diagnostic::more`].
+pub const MAX_PROBLEMS: usize = 100;
+
 /// One problem in a scenario file.
 ///
 /// Its [`Display`](fmt::Display) is one line, `file:line:column: message (expected ...)`;
@@ -42,6 +47,17 @@ fn show_expected(e: &Option<String>) -> String {
 }
 
 impl Diagnostic {
+    /// The note that `n` more problems of `file` were found and not shown.
+    pub fn more(file: &Path, n: usize) -> Self {
+        Diagnostic {
+            file: file.to_path_buf(),
+            position: None,
+            message: format!("{n} more problems not shown (the first {MAX_PROBLEMS} found are)"),
+            expected: None,
+            snippet: None,
+        }
+    }
+
     /// A problem at byte range `span` of `source` (none: no place).
     pub fn new(
         file: &Path,
@@ -169,6 +185,11 @@ impl<'i> SourceMap<'i> {
             text,
             root: DeTable::parse(text).ok(),
         }
+    }
+
+    /// The file the text was read from, as it was named.
+    pub fn file(&self) -> &Path {
+        self.file
     }
 
     /// The values found along `path`, outermost first (fewer than the path's segments when

@@ -39,7 +39,7 @@
 //! assert!(lines[1].starts_with("w.toml:2:18: invalid type: string \"soon\""), "{lines:?}");
 //! ```
 
-use super::span::Diagnostic;
+use super::span::{Diagnostic, MAX_PROBLEMS};
 use serde::de::DeserializeOwned;
 use std::path::Path;
 use toml::Spanned;
@@ -93,56 +93,80 @@ pub fn parse<T: DeserializeOwned>(
     layout: &Layout<'_>,
 ) -> Result<T, Vec<Diagnostic>> {
     let (root, errors) = DeTable::parse_recoverable(text);
+    let mut out = Capped::new(file);
     if !errors.is_empty() {
-        return Err(errors
-            .iter()
-            .map(|e| Diagnostic::from_toml(file, text, e))
-            .collect());
+        for e in &errors {
+            out.push(|| Diagnostic::from_toml(file, text, e));
+        }
+        return Err(out.finish());
     }
     let whole = match T::deserialize(toml::de::Deserializer::from(root.clone())) {
         Ok(t) => return Ok(t),
         Err(e) => Diagnostic::from_toml(file, text, &e),
     };
     // The first error hides the others: read each part on its own.
-    let mut out = Vec::new();
     let table = root.get_ref();
     for (key, value) in table.iter() {
         let name = key.get_ref().as_ref();
         let Some((_, check)) = layout.keys.iter().find(|(k, _)| *k == name) else {
-            out.push(Diagnostic::new(
-                file,
-                text,
-                Some(key.span()),
-                format!("unknown field `{name}`"),
-                Some(one_of(&layout.key_names())),
-            ));
+            out.push(|| {
+                let what = Some(one_of(&layout.key_names()));
+                let message = format!("unknown field `{name}`");
+                Diagnostic::new(file, text, Some(key.span()), message, what)
+            });
             continue;
         };
         let span = value.span();
         for e in check(value.clone()) {
-            out.push(Diagnostic::from_toml_or_at(
-                file,
-                text,
-                &e,
-                Some(span.clone()),
-            ));
+            out.push(|| Diagnostic::from_toml_or_at(file, text, &e, Some(span.clone())));
         }
     }
     for (key, what) in layout.required {
         if !table.contains_key(*key) {
-            out.push(Diagnostic::new(
-                file,
-                text,
-                Some(0..0),
-                format!("missing field `{key}`"),
-                Some((*what).to_owned()),
-            ));
+            out.push(|| {
+                let message = format!("missing field `{key}`");
+                Diagnostic::new(file, text, Some(0..0), message, Some((*what).to_owned()))
+            });
         }
     }
+    let mut out = out.finish();
     if out.is_empty() {
         out.push(whole);
     }
     Err(out)
+}
+
+/// At most [`MAX_PROBLEMS`] diagnostics, each made only if it is kept, and a count of the
+/// rest.
+struct Capped<'a> {
+    file: &'a Path,
+    out: Vec<Diagnostic>,
+    dropped: usize,
+}
+
+impl<'a> Capped<'a> {
+    fn new(file: &'a Path) -> Self {
+        Capped {
+            file,
+            out: Vec::new(),
+            dropped: 0,
+        }
+    }
+
+    fn push(&mut self, make: impl FnOnce() -> Diagnostic) {
+        if self.out.len() < MAX_PROBLEMS {
+            self.out.push(make());
+        } else {
+            self.dropped += 1;
+        }
+    }
+
+    fn finish(mut self) -> Vec<Diagnostic> {
+        if self.dropped > 0 {
+            self.out.push(Diagnostic::more(self.file, self.dropped));
+        }
+        self.out
+    }
 }
 
 /// "one of `a`, `b`, `c`".
