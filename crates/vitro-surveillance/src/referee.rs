@@ -7,9 +7,10 @@
 //!   restricted mean over all units (an undetected one counted at the time run);
 //! - **tracked share**: the share of the run during which some UAV held a lock on it (the
 //!   union of every UAV's lock spans, each ended at the UAV's loss);
-//! - messages sent and lost on the radio, contract-net messages, the allocation method's messages, calls, awards, failed
-//!   calls, re-allocations (calls for sectors awarded before) and handovers (awards of a
-//!   sector to another UAV than its last winner), revocations, UAVs lost and presumed lost.
+//! - messages sent and lost on the radio, contract-net messages, the allocation method's
+//!   messages, calls, awards, failed calls, re-allocations (calls for sectors awarded
+//!   before) and handovers (awards of a sector to another UAV than its last winner),
+//!   revocations, UAVs lost and presumed lost.
 
 use crate::agents::station::Station;
 use crate::agents::uav::Uav;

@@ -11,9 +11,9 @@
 //!   drop ([`Net::Revoke`]) those another UAV holds meanwhile;
 //! - an area tasked during the run is cut into sectors and called.
 //!
-//! The scenario may choose another allocation method ([`allot`]): sequential single-item
-//! auctions over the radio, or a central plan (a vehicle routing problem solved by the
-//! station); the picture, the presumptions and the revocations are the same.
+//! The scenario may choose another allocation method (the `allot` module): sequential
+//! single-item auctions over the radio, or a central plan (a vehicle routing problem solved
+//! by the station); the picture, the presumptions and the revocations are the same.
 
 mod allot;
 

@@ -3,11 +3,11 @@
 //!
 //! - **auction**: sequential single-item auctions over the radio (Koenig et al., "The power
 //!   of sequential single-item auctions for agent coordination", AAAI 2006). Each round the
-//!   station announces every sector waiting ([`Net::Round`], to each UAV it believes flying); each UAV bids for
-//!   the one it adds most cheaply to what it holds ([`Net::Bid`], the same cost as its
-//!   contract-net proposal); after the proposal deadline the lowest bid wins, and the award
-//!   rides on the next round's announcement. A round without bids fails, its sectors called
-//!   again after `retry_s`.
+//!   station announces every sector waiting ([`Net::Round`], to each UAV it believes
+//!   flying); each UAV bids for the one it adds most cheaply to what it holds ([`Net::Bid`],
+//!   the same cost as its contract-net proposal); after the proposal deadline the lowest
+//!   bid wins, and the award rides on the next round's announcement. A round without bids
+//!   fails, its sectors called again after `retry_s`.
 //! - **central**: the station poses the waiting sectors as a capacitated vehicle routing
 //!   problem — its own position the depot, the sectors' centres the customers (one unit of
 //!   demand each), one vehicle per UAV it believes flying, of capacity the sectors shared
