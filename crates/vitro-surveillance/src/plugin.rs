@@ -192,8 +192,8 @@ impl Play for Operation {
             (
                 "messages".into(),
                 format!(
-                    "{} sent, {} lost, {} of the contract net",
-                    m.messages_sent, m.messages_lost, m.cnet_messages
+                    "{} sent, {} lost, {} of the allocation method",
+                    m.messages_sent, m.messages_lost, m.allocation_messages
                 ),
             ),
         ]
