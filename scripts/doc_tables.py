@@ -137,6 +137,11 @@ TABLES = {
         batch("surveillance_uavs", "results/surveillance_uavs",
               "python3 scripts/surveillance_table.py results/surveillance_uavs/summary.csv"),
         makes={0: "results/surveillance_uavs"}, minutes=2),
+    "allocation": Table(
+        "experiments/README.md",
+        batch("surveillance_allocation", "results/surveillance_allocation",
+              "python3 scripts/allocation_table.py results/surveillance_allocation/summary.csv"),
+        makes={0: "results/surveillance_allocation"}, minutes=2),
 }
 
 # Pages --check scans for markers.

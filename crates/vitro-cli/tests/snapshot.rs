@@ -78,6 +78,23 @@ fn the_surveillance_resumes_to_the_same_hash() {
 }
 
 #[test]
+fn the_surveillance_resumes_mid_auction_and_mid_plan_to_the_same_hash() {
+    let dir = scratch("surveillance-methods");
+    let text = std::fs::read_to_string(repo().join("scenarios/surveillance.toml")).unwrap();
+    let data = format!("\"{}/data", s(&repo()));
+    for method in ["auction", "central"] {
+        // Saved 0.1 s after the area is tasked at 1200 s: a round open, or the search running.
+        let file = dir.join(format!("{method}.toml"));
+        let scenario = (text.replace("\"../data", &data)).replace(
+            "method = \"contract-net\"",
+            &format!("method = \"{method}\""),
+        );
+        std::fs::write(&file, scenario).unwrap();
+        same_hash(s(&file), &["--until", "1300"], "1200.1", &dir, method);
+    }
+}
+
+#[test]
 fn the_demo_resumes_to_the_same_hash() {
     let dir = scratch("demo");
     same_hash(

@@ -4,7 +4,7 @@
 //! | agent | briefed with |
 //! |---|---|
 //! | UAV | the map (town and terrain), the operation area and the track spacing (for its own search when it holds no sector, entered at a corner set by its place in the roster), the team roster and the station's id, its own type, level, altitude and cruise speed, its camera and tracking settings, the radio discipline (and how far it goes to look for a target a teammate reported) and the contract net's deadlines |
-//! | station | the team roster, the sectors of the operation area, the timetable of the areas it will be tasked with (their sectors come with the tasking), the radio discipline and the contract net's deadlines |
+//! | station | where it is parked (the scenario's point), the map, the allocation method (and the central search's budget and pace), the team roster, the sectors of the operation area, the timetable of the areas it will be tasked with (their sectors come with the tasking), the radio discipline and the contract net's deadlines |
 //! | red unit | the map (its street graph), how far it goes and how long it pauses |
 //!
 //! No agent is told where the red units are, which sectors a UAV holds, or whether a UAV
@@ -12,10 +12,12 @@
 //! holds what and who is alive from the UAVs' reports, and targets are known only through
 //! each UAV's own camera and its teammates' sighting reports.
 
+use crate::scenario::AllocationMethod;
 use crate::sector::{Rect, Sector};
 use std::sync::Arc;
 use vitro::entity::EntityId;
 use vitro::protocol::CnetConfig;
+use vitro::sim::CostModel;
 use vitro::time::{SimDuration, SimTime};
 use vitro_site::map::Mode;
 use vitro_site::site::Site;
@@ -81,6 +83,17 @@ pub struct Airframe {
 /// What the station is told.
 #[derive(Clone, Debug)]
 pub struct StationBrief {
+    /// Where it is parked, town metres (the scenario's point): the central plan's tours
+    /// start there.
+    pub home: [f64; 2],
+    /// The town and its terrain (the map): to read the UAVs' reported positions.
+    pub site: Arc<Site>,
+    /// How it shares the sectors out.
+    pub method: AllocationMethod,
+    /// The central search's iterations.
+    pub budget: u64,
+    /// Simulated time the central search takes.
+    pub search_cost: CostModel,
     /// The UAVs, in id order.
     pub team: Vec<EntityId>,
     /// The sectors of the operation area, searched from the start.

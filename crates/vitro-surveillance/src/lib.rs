@@ -18,7 +18,7 @@
 //! | bodies at each level of fidelity, their actuators and autopilots | `vitro_tactical` ([`act`] picks the level's own) |
 //! | the camera and its locks | `vitro_tactical::sensor::track` ([`Look`](vitro_tactical::sensor::track::Look), [`Tracker`](vitro_tactical::sensor::track::Tracker)) |
 //! | the radio: delay, jitter, loss, range | `vitro::comm`, with the mission's own vocabulary [`net::Net`] |
-//! | task allocation | `vitro::protocol::contract_net`, bids read through [`Bid`](vitro::protocol::Bid) |
+//! | task allocation | `vitro::protocol::contract_net`, bids read through [`Bid`](vitro::protocol::Bid); or, by the scenario's `[allocation] method`, sequential auctions over the radio or a central plan solved with `vitro_routing` (the station's `allot` module) |
 //! | the model | [`model::Field`]: the tactical arena and events, the mission's messages and agents |
 //! | the scenario tables | the shared ones of `vitro_tactical::scenario`, and the mission's own ([`scenario`]) |
 //! | plugging into the tools | [`Surveillance`] implements `vitro_mission::Mission`; [`Operation`] is the mission's `vitro_mission::session::Play`, and a run ([`SurveillanceRun`]) the generic session over it |

@@ -1,17 +1,21 @@
 //! What the team says over the radio: the contract net's bodies (a call for a sector, a
-//! bid, a refusal, a confirmation), status reports, sighting reports and revocations.
+//! bid, a refusal, a confirmation), the auction's rounds and bids, the central plan's
+//! assignments, status reports, sighting reports and revocations.
 //!
 //! The mission has its own vocabulary: the tactical model's message type is the mission's
 //! to choose ([`vitro_tactical::radio`]), and the contract net reads bids from it through
 //! [`Bid`].
 
 use serde::{Deserialize, Serialize};
-use vitro::comm::GroupId;
+use vitro::comm::{GroupId, Protocol};
 use vitro::entity::EntityId;
 use vitro::protocol::Bid;
 
 /// The multicast group of the team and its station.
 pub const TEAM: GroupId = GroupId(1);
+
+/// The protocol the auction's and the central plan's messages are counted under.
+pub const ALLOCATION: Protocol = Protocol::Custom(1);
 
 /// A message of the surveillance mission.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -68,6 +72,30 @@ pub enum Net {
         /// The sectors.
         sectors: Vec<u32>,
     },
+    /// (Station → team, an auction round) the last round's award, and "bid for one of
+    /// these sectors".
+    Round {
+        /// The round's number.
+        round: u64,
+        /// The last round's award: the winner, the sector and its area.
+        award: Option<(EntityId, u32, [f64; 4])>,
+        /// The sectors waiting, with their areas (empty: the award only).
+        sectors: Vec<(u32, [f64; 4])>,
+    },
+    /// (UAV → station, an auction bid) "I add this sector at this cost."
+    Bid {
+        /// The round.
+        round: u64,
+        /// The sector.
+        sector: u32,
+        /// The bid (the seconds until it would have searched it once): lower wins.
+        cost: f64,
+    },
+    /// (Station → UAV, the central plan) "Add these sectors to yours."
+    Assign {
+        /// The sectors, with their areas.
+        sectors: Vec<(u32, [f64; 4])>,
+    },
 }
 
 impl Net {
@@ -81,6 +109,9 @@ impl Net {
             Net::Status { .. } => "status",
             Net::Sighting { .. } => "sighting",
             Net::Revoke { .. } => "revoke",
+            Net::Round { .. } => "round",
+            Net::Bid { .. } => "bid",
+            Net::Assign { .. } => "assign",
         }
     }
 }

@@ -86,9 +86,9 @@ impl MetricTable for Metrics {
     fn table(&self) -> Vec<(&'static str, Metric)> {
         metric_table!(self; red_units, red_detected, mean_time_to_detection_s,
             max_time_to_detection_s, restricted_time_to_detection_s, mean_tracked_share,
-            min_tracked_share, messages_sent, messages_lost, cnet_messages, calls, awards,
-            calls_failed, reallocations, handovers, revocations, uavs, uavs_lost, presumed_lost,
-            sectors, sectors_held, events, sim_time_s)
+            min_tracked_share, messages_sent, messages_lost, cnet_messages, allocation_messages,
+            calls, awards, calls_failed, reallocations, handovers, revocations, uavs, uavs_lost,
+            presumed_lost, sectors, sectors_held, events, sim_time_s)
     }
 }
 
@@ -192,8 +192,8 @@ impl Play for Operation {
             (
                 "messages".into(),
                 format!(
-                    "{} sent, {} lost, {} of the contract net",
-                    m.messages_sent, m.messages_lost, m.cnet_messages
+                    "{} sent, {} lost, {} of the allocation method",
+                    m.messages_sent, m.messages_lost, m.allocation_messages
                 ),
             ),
         ]

@@ -7,13 +7,15 @@
 //!   restricted mean over all units (an undetected one counted at the time run);
 //! - **tracked share**: the share of the run during which some UAV held a lock on it (the
 //!   union of every UAV's lock spans, each ended at the UAV's loss);
-//! - messages sent and lost on the radio, contract-net messages, calls, awards, failed
-//!   calls, re-allocations (calls for sectors awarded before) and handovers (awards of a
-//!   sector to another UAV than its last winner), revocations, UAVs lost and presumed lost.
+//! - messages sent and lost on the radio, contract-net messages, the allocation method's
+//!   messages, calls, awards, failed calls, re-allocations (calls for sectors awarded
+//!   before) and handovers (awards of a sector to another UAV than its last winner),
+//!   revocations, UAVs lost and presumed lost.
 
 use crate::agents::station::Station;
 use crate::agents::uav::Uav;
 use crate::model::Field;
+use crate::net::ALLOCATION;
 use crate::setup::Member;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -58,6 +60,9 @@ pub struct Metrics {
     pub messages_lost: u64,
     /// Contract-net messages sent.
     pub cnet_messages: u64,
+    /// Messages of the allocation method sent (the contract net's, or the auction's rounds
+    /// and bids, or the central plan's assignments; status reports not counted).
+    pub allocation_messages: u64,
     /// Calls for proposals the station made.
     pub calls: u64,
     /// Calls awarded.
@@ -175,6 +180,9 @@ pub fn measure(
         m.messages_lost += c.lost;
         if protocol == Protocol::ContractNet {
             m.cnet_messages += c.sent;
+        }
+        if protocol == Protocol::ContractNet || protocol == ALLOCATION {
+            m.allocation_messages += c.sent;
         }
     }
     m.uavs_lost = lost.len() as u32;

@@ -17,7 +17,7 @@ use vitro::entity::EntityId;
 use vitro::env::NodeId;
 use vitro::event::Target;
 use vitro::protocol::CnetConfig;
-use vitro::sim::Simulation;
+use vitro::sim::{CostModel, Simulation};
 use vitro::time::{SimDuration, SimTime};
 use vitro_site::map::Mode;
 use vitro_tactical::arena::{Arena, Ev};
@@ -161,6 +161,14 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, SetupError> {
     }
     tasking.sort_by_key(|(t, _)| *t);
     let station_brief = Arc::new(StationBrief {
+        home: f.station.start,
+        site: site.clone(),
+        method: al.method,
+        budget: al.budget,
+        search_cost: CostModel {
+            base: SimDuration::ZERO,
+            per_unit: secs(al.iteration_ms / 1e3),
+        },
         team: uavs.clone(),
         sectors,
         tasking,

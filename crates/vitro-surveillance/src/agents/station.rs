@@ -10,10 +10,17 @@
 //! - a UAV heard again claims its sectors back where nobody else holds them, and is told to
 //!   drop ([`Net::Revoke`]) those another UAV holds meanwhile;
 //! - an area tasked during the run is cut into sectors and called.
+//!
+//! The scenario may choose another allocation method (the `allot` module): sequential
+//! single-item auctions over the radio, or a central plan (a vehicle routing problem solved
+//! by the station); the picture, the presumptions and the revocations are the same.
+
+mod allot;
 
 use crate::brief::StationBrief;
 use crate::model::Field;
 use crate::net::{Net, TEAM};
+use crate::scenario::AllocationMethod;
 use crate::sector::Rect;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
@@ -30,10 +37,41 @@ use vitro_tactical::model::{Controller, Intention};
 const CHECK: u64 = 1;
 /// Timer keys from here: area `k` is tasked.
 const TASKING: u64 = 1 << 20;
+/// Timer key: the central search is over.
+const PLANNED: u64 = 2;
 /// Timer keys from here: sector `s` is called again.
 const RETRY: u64 = 1 << 32;
+/// Timer keys from here: auction round `r` is decided (below the contract net's tag, the
+/// top 16 bits).
+const ROUND: u64 = 1 << 40;
 /// The contract net's timer tag.
 const CNET: TimerTag = TimerTag(1);
+
+/// An auction round waiting for its bids.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+struct Round {
+    id: u64,
+    sectors: Vec<u32>,
+    /// (cost, bidder, sector).
+    bids: Vec<(f64, EntityId, u32)>,
+}
+
+/// What the auction and the central plan keep between inputs.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+struct Allot {
+    /// The round open, if any.
+    round: Option<Round>,
+    /// Rounds announced so far.
+    rounds: u64,
+    /// The last award, not announced yet.
+    award: Option<(EntityId, u32, Rect)>,
+    /// The central plan being searched: each UAV's sectors.
+    plan: Option<Vec<(EntityId, Vec<u32>)>>,
+    /// Central plans made.
+    plans: u64,
+    /// Each UAV's last reported position, town metres (the central plan).
+    positions: BTreeMap<EntityId, [f64; 2]>,
+}
 
 /// The station's picture of one sector.
 #[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -48,6 +86,10 @@ pub struct SectorState {
     pub awarded_before: bool,
     /// The UAV it was last awarded to.
     pub last_winner: Option<EntityId>,
+    /// When it was assigned without the contract net (an auction or the central plan): the
+    /// holder's status report must claim it in time.
+    #[serde(default)]
+    pub assigned: Option<SimTime>,
 }
 
 /// What the station counts.
@@ -87,6 +129,9 @@ pub struct Station {
     pub stats: StationStats,
     /// What happened, for the log: (time, line).
     pub log: Vec<(SimTime, String)>,
+    /// The auction's or the central plan's state.
+    #[serde(default)]
+    allot: Allot,
 }
 
 impl Station {
@@ -103,6 +148,7 @@ impl Station {
             presumed_lost: BTreeSet::new(),
             stats: StationStats::default(),
             log: Vec::new(),
+            allot: Allot::default(),
         }
     }
 
@@ -116,6 +162,7 @@ impl Station {
                     confirmed: None,
                     awarded_before: false,
                     last_winner: None,
+                    assigned: None,
                 },
             );
             self.queue.push_back(s.id);
@@ -133,8 +180,14 @@ impl Station {
         self.call_next(cx);
     }
 
-    /// Calls for proposals for the next sector waiting, if no call is open.
+    /// Calls for proposals for the next sector waiting, if no call is open (or the next
+    /// auction round, or the next central plan).
     fn call_next(&mut self, cx: &mut Context<'_, Field>) {
+        match self.brief.method {
+            AllocationMethod::ContractNet => {}
+            AllocationMethod::Auction => return self.next_round(cx),
+            AllocationMethod::Central => return self.next_plan(cx),
+        }
         if self.open.is_some() {
             return;
         }
@@ -239,6 +292,12 @@ impl Station {
     fn on_status(&mut self, env: &Envelope<Net>, claims: &[u32], cx: &mut Context<'_, Field>) {
         let (u, now) = (env.from, cx.now());
         self.heard.insert(u, now);
+        if let Net::Status { pos, .. } = &env.body
+            && self.brief.method == AllocationMethod::Central
+        {
+            let at = self.brief.site.to_town([pos[0], pos[1]]);
+            self.allot.positions.insert(u, at);
+        }
         if self.presumed_lost.remove(&u) {
             self.log.push((now, format!("{} heard again", name(cx, u))));
         }
@@ -306,6 +365,7 @@ impl Station {
             }
             self.presumed_lost.insert(u);
             self.stats.presumed_lost += 1;
+            self.allot.positions.remove(&u);
             let held: Vec<u32> = (self.sectors.iter())
                 .filter(|(_, st)| st.holder == Some(u))
                 .map(|(s, _)| *s)
@@ -322,6 +382,7 @@ impl Station {
                 self.release(s);
             }
         }
+        self.unconfirmed(now);
         cx.set_timer(d.heartbeat, CHECK);
         self.call_next(cx);
     }
@@ -342,6 +403,8 @@ impl Controller<Field> for Station {
         match input {
             Input::Event(Ev::Start) => self.start(cx),
             Input::Timer(CHECK) => self.check(cx),
+            Input::Timer(PLANNED) => self.planned(cx),
+            Input::Timer(k) if k >= ROUND => self.round_over(k - ROUND, cx),
             Input::Timer(k) if (TASKING..RETRY).contains(&k) => {
                 let brief = self.brief.clone();
                 if let Some((_, sectors)) = brief.tasking.get((k - TASKING) as usize) {
@@ -358,11 +421,15 @@ impl Controller<Field> for Station {
                 }
                 self.call_next(cx);
             }
-            Input::Message(env) => {
-                if let Net::Status { sectors, .. } = &env.body {
-                    self.on_status(env, sectors, cx);
-                }
-            }
+            Input::Message(env) => match &env.body {
+                Net::Status { sectors, .. } => self.on_status(env, sectors, cx),
+                &Net::Bid {
+                    round,
+                    sector,
+                    cost,
+                } => self.on_bid(env.from, round, sector, cost),
+                _ => {}
+            },
             _ => {}
         }
     }

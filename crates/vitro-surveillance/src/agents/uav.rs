@@ -17,7 +17,7 @@ use super::plan::{cost, search_route, watch};
 use crate::act::Pilot;
 use crate::brief::{Airframe, TeamBrief};
 use crate::model::Field;
-use crate::net::{Net, TEAM};
+use crate::net::{ALLOCATION, Net, TEAM};
 use crate::sector::{Rect, centre, dist};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -343,8 +343,15 @@ impl Uav {
     }
 
     fn heartbeat(&mut self, cx: &mut Context<'_, Field>) {
+        if self.status(cx) {
+            cx.set_timer(self.brief.discipline.heartbeat, HEARTBEAT);
+        }
+    }
+
+    /// Sends its status report; false if it has no body to report from.
+    fn status(&mut self, cx: &mut Context<'_, Field>) -> bool {
         let Some(pos) = cx.sense(&OwnPose).map(|p| p.pos) else {
-            return;
+            return false;
         };
         let tracking = match self.mode {
             Mode::Track(t) => vec![t],
@@ -356,7 +363,64 @@ impl Uav {
             tracking,
         };
         cx.send(Outgoing::new(Address::Group(TEAM), body));
-        cx.set_timer(self.brief.discipline.heartbeat, HEARTBEAT);
+        true
+    }
+
+    /// Sectors the station allotted it (an auction's award or the central plan): taken,
+    /// and claimed at once in a status report.
+    fn take(&mut self, sectors: &[(u32, Rect)], cx: &mut Context<'_, Field>) {
+        for &(s, area) in sectors {
+            self.known.insert(s, area);
+            self.sectors.insert(s, area);
+        }
+        self.status(cx);
+        if self.mode == Mode::Search {
+            self.search(cx);
+        }
+    }
+
+    /// An auction round: its award if it is this UAV's, then its bid for the waiting
+    /// sector it adds most cheaply (none if it has no position to bid from).
+    fn on_round(
+        &mut self,
+        round: u64,
+        award: Option<(EntityId, u32, Rect)>,
+        sectors: &[(u32, Rect)],
+        cx: &mut Context<'_, Field>,
+    ) {
+        if let Some((u, s, area)) = award
+            && u == cx.me()
+        {
+            self.take(&[(s, area)], cx);
+        }
+        if sectors.is_empty() {
+            return;
+        }
+        let Some(here) = self.here(cx) else {
+            return;
+        };
+        let load: Vec<Rect> = self.sectors.values().copied().collect();
+        let mut best: Option<(f64, u32)> = None;
+        for &(s, area) in sectors {
+            self.known.insert(s, area);
+            let bid = if self.sectors.contains_key(&s) {
+                0.0
+            } else {
+                cost(&self.brief, &self.frame, &load, area, here)
+            };
+            if best.is_none_or(|(b, _)| bid < b) {
+                best = Some((bid, s));
+            }
+        }
+        if let Some((bid, sector)) = best {
+            let body = Net::Bid {
+                round,
+                sector,
+                cost: bid,
+            };
+            let to = Address::Agent(self.brief.station);
+            cx.send(Outgoing::new(to, body).protocol(ALLOCATION, round));
+        }
     }
 
     /// Found itself down: its camera and radio are gone.
@@ -440,6 +504,12 @@ impl Uav {
                 self.cues
                     .insert(*target, (at, SimTime::from_nanos(*seen_ns)));
             }
+            Net::Round {
+                round,
+                award,
+                sectors,
+            } if from == self.brief.station => self.on_round(*round, *award, sectors, cx),
+            Net::Assign { sectors } if from == self.brief.station => self.take(sectors, cx),
             Net::Revoke { sectors } if from == self.brief.station => {
                 let before = self.sectors.len();
                 self.sectors.retain(|s, _| !sectors.contains(s));

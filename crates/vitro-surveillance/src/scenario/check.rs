@@ -211,6 +211,22 @@ fn check_file(c: &mut Checker<'_>, f: &SurveillanceFile) {
     );
     let a = &f.allocation;
     c.num(
+        "allocation.budget",
+        a.budget as f64,
+        false,
+        1.0,
+        1e6,
+        "iterations",
+    );
+    c.num(
+        "allocation.iteration_ms",
+        a.iteration_ms,
+        false,
+        0.0,
+        1e4,
+        "milliseconds",
+    );
+    c.num(
         "allocation.proposal_deadline_s",
         a.proposal_deadline_s,
         true,

@@ -105,7 +105,7 @@ pub struct SurveillanceFile {
     /// Locks of the tracking sensor.
     #[serde(default)]
     pub tracking: TrackingSpec,
-    /// The contract net's deadlines.
+    /// How the sectors are shared out, and the deadlines.
     #[serde(default)]
     pub allocation: AllocationSpec,
     /// How the red units move.
@@ -316,14 +316,46 @@ impl Default for TrackingSpec {
     }
 }
 
-/// The contract net's deadlines (`vitro::protocol::contract_net`).
+/// How the station shares the sectors out among the UAVs.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum AllocationMethod {
+    /// One call for proposals per sector (`vitro::protocol::contract_net`): each UAV bids
+    /// the seconds until it would have searched the sector, the lowest bid wins.
+    #[default]
+    ContractNet,
+    /// The station solves the waiting sectors as a capacitated vehicle routing problem
+    /// (`vitro_routing`'s large neighbourhood search, from the station's position, one tour
+    /// per UAV it believes flying) and sends each UAV its tour; the search is charged in
+    /// simulated time.
+    Central,
+    /// Sequential single-item auctions over the radio: each round the station announces
+    /// every waiting sector, each UAV bids for the one it adds most cheaply, the lowest bid
+    /// wins (announced with the next round).
+    Auction,
+}
+
+/// How the sectors are shared out: the method, the contract net's deadlines (also the
+/// auction's and the central plan's) and the central search's budget.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct AllocationSpec {
-    /// How long after a call for proposals the station decides, at the latest, seconds.
+    /// `contract-net` (default), `central` or `auction`.
+    pub method: AllocationMethod,
+    /// The central search's iterations (ruin-and-recreate steps of the large neighbourhood
+    /// search).
+    #[schemars(range(min = 1, max = 1_000_000))]
+    pub budget: u64,
+    /// Simulated time the central search takes per iteration, milliseconds: the station's
+    /// tours are sent once the search is over.
+    #[schemars(range(min = 0.0, max = 10_000.0))]
+    pub iteration_ms: f64,
+    /// How long after a call for proposals (or an auction round) the station decides, at the
+    /// latest, seconds.
     #[schemars(range(max = 3600.0), extend("exclusiveMinimum" = 0.0))]
     pub proposal_deadline_s: f64,
-    /// How long the winner has to confirm it holds the sector, seconds.
+    /// How long the winner has to confirm it holds the sector, seconds (for the auction and
+    /// the central plan: a UAV's status report claiming it, within this plus a heartbeat).
     #[schemars(range(max = 3600.0), extend("exclusiveMinimum" = 0.0))]
     pub report_deadline_s: f64,
     /// How long a UAV's proposal binds without an answer, seconds (longer than the
@@ -338,6 +370,9 @@ pub struct AllocationSpec {
 impl Default for AllocationSpec {
     fn default() -> Self {
         AllocationSpec {
+            method: AllocationMethod::ContractNet,
+            budget: 500,
+            iteration_ms: 0.5,
             proposal_deadline_s: 2.0,
             report_deadline_s: 5.0,
             proposal_expiry_s: 4.0,
