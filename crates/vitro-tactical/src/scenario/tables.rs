@@ -1,49 +1,68 @@
 //! Reading any mission's scenario text: TOML syntax, then the types, every problem with
 //! its file, line and column.
 //!
-//! A mission lists its top-level keys, each with the check that reads its value on its own
-//! ([`one`] for a table or a value, [`each`] for an array of tables), and the keys a file
-//! must have ([`Layout`]); [`parse`] reads the whole file into the mission's type, and when
-//! that fails reports every problem rather than the first: all syntax errors the TOML parser
-//! recovers from; else each top-level key (and each item of an array of tables) read on its
-//! own, unknown keys and missing ones.
+//! Every tactical scenario has the shared top-level keys ([`SHARED`]: `kind`, `name`, `seed`,
+//! `start`, `end`, `site`, `fidelity`, `entity`, `channel`, `record`), of which `name`,
+//! `seed`, `end`, `site` and at least one `[[entity]]` are required ([`SHARED_REQUIRED`]). A
+//! mission lists its own keys, each with the check that reads its value on its own ([`one`]
+//! for a table or a value, [`each`] for an array of tables), and its own required keys
+//! ([`Layout`]); [`parse`] reads the whole file into the mission's type, and when that fails
+//! reports every problem rather than the first: all syntax errors the TOML parser recovers
+//! from; else each top-level key (and each item of an array of tables) read on its own,
+//! unknown keys and missing ones.
 //!
 //! ```
 //! use std::path::Path;
 //! use vitro_tactical::scenario::tables::{Layout, each, one, parse};
-//! use vitro_tactical::scenario::{Diagnostics, EndSpec, EntitySpec};
+//! use vitro_tactical::scenario::{Diagnostics, EndSpec, EntitySpec, SiteSpec};
 //!
 //! #[derive(Debug, serde::Deserialize)]
 //! #[serde(deny_unknown_fields)]
 //! struct Watch {
 //!     name: String,
+//!     seed: u64,
 //!     end: EndSpec,
+//!     site: SiteSpec,
 //!     #[serde(rename = "entity")]
 //!     entities: Vec<EntitySpec>,
+//!     depot: [f64; 2],
 //! }
+//! // The mission's own key: the depot, required.
 //! const LAYOUT: Layout = Layout {
-//!     keys: &[("name", one::<String>), ("end", one::<EndSpec>), ("entity", each::<EntitySpec>)],
-//!     required: &[("name", "a top-level `name`"), ("end", "an `[end]` table")],
+//!     keys: &[("depot", one::<[f64; 2]>)],
+//!     required: &[("depot", "a top-level `depot`, town metres [x, y]")],
 //! };
-//! let good = "name = \"w\"\nend = { time_s = 60 }\n[[entity]]\nname = \"u\"\ntype = \"ugv\"\nside = \"blue\"\n";
+//! let good = r#"
+//! name = "w"
+//! seed = 1
+//! end = { time_s = 60 }
+//! site = { map = "town.osm.pbf", terrain = "valley.asc" }
+//! depot = [0, 0]
+//! [[entity]]
+//! name = "u"
+//! type = "ugv"
+//! side = "blue"
+//! "#;
 //! let w: Watch = parse(Path::new("w.toml"), good, &LAYOUT).unwrap();
 //! assert_eq!(w.entities[0].name, "u");
 //!
 //! // Two problems in two places, both reported (in the order of their places).
-//! let bad = "name = 3\nend = { time_s = \"soon\" }\n";
-//! let problems = parse::<Watch>(Path::new("w.toml"), bad, &LAYOUT).unwrap_err();
+//! let bad = good.replace("name = \"w\"", "name = 3").replace("time_s = 60", "time_s = \"soon\"");
+//! let problems = parse::<Watch>(Path::new("w.toml"), &bad, &LAYOUT).unwrap_err();
 //! let problems = Diagnostics::new(problems);
 //! let lines: Vec<String> = problems.0.iter().map(|d| d.to_string()).collect();
 //! assert_eq!(lines.len(), 2, "{lines:?}");
-//! assert!(lines[0].starts_with("w.toml:1:8: invalid type: integer `3`"), "{lines:?}");
-//! assert!(lines[1].starts_with("w.toml:2:18: invalid type: string \"soon\""), "{lines:?}");
+//! assert!(lines[0].starts_with("w.toml:2:8: invalid type: integer `3`"), "{lines:?}");
+//! assert!(lines[1].starts_with("w.toml:4:18: invalid type: string \"soon\""), "{lines:?}");
 //! ```
 
 use super::span::{Diagnostic, MAX_PROBLEMS};
+use super::{ChannelSpec, EndSpec, EntitySpec, FidelitySpec, RecordSpec, SiteSpec};
 use serde::de::DeserializeOwned;
 use std::path::Path;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue, ValueDeserializer};
+use vitro::time::UtcTime;
 
 /// Reads one top-level value of a scenario on its own: each error found in it.
 pub type PartCheck = for<'a> fn(Spanned<DeValue<'a>>) -> Vec<toml::de::Error>;
@@ -64,21 +83,50 @@ pub fn each<T: DeserializeOwned>(value: Spanned<DeValue<'_>>) -> Vec<toml::de::E
     }
 }
 
-/// The top level of a mission's scenario files.
+/// The top-level keys every tactical scenario has, each with the check of its value.
+pub const SHARED: [(&str, PartCheck); 10] = [
+    ("kind", one::<String>),
+    ("name", one::<String>),
+    ("seed", one::<u64>),
+    ("start", one::<UtcTime>),
+    ("end", one::<EndSpec>),
+    ("site", one::<SiteSpec>),
+    ("fidelity", one::<FidelitySpec>),
+    ("entity", each::<EntitySpec>),
+    ("channel", one::<ChannelSpec>),
+    ("record", one::<RecordSpec>),
+];
+
+/// The shared keys every tactical scenario must have, each with what is expected in words.
+pub const SHARED_REQUIRED: [(&str, &str); 5] = [
+    ("name", "a top-level `name`"),
+    ("seed", "a top-level `seed`"),
+    ("end", "a top-level `end`"),
+    ("site", "a top-level `site`"),
+    ("entity", "at least one `[[entity]]` table"),
+];
+
+/// The mission's own top-level keys: beside the [`SHARED`] ones.
 #[derive(Clone, Copy, Debug)]
 pub struct Layout<'a> {
-    /// Every top-level key, in the order of the file type's fields, with the check of its
-    /// value.
+    /// The mission's own top-level keys, each with the check of its value.
     pub keys: &'a [(&'a str, PartCheck)],
-    /// The keys a file must have, each with what is expected in words
-    /// (`"at least one `[[entity]]` table"`).
+    /// The mission's own keys a file must have, each with what is expected in words
+    /// (`"a `[station]` table with its `start`"`).
     pub required: &'a [(&'a str, &'a str)],
 }
 
 impl Layout<'_> {
-    /// The top-level keys, in order.
+    /// Every top-level key: the shared ones, then the mission's.
     pub fn key_names(&self) -> Vec<&str> {
-        self.keys.iter().map(|(k, _)| *k).collect()
+        let own = self.keys.iter().map(|(k, _)| *k);
+        SHARED.iter().map(|(k, _)| *k).chain(own).collect()
+    }
+
+    /// The check of the value of top-level key `key`, if it is one.
+    fn check(&self, key: &str) -> Option<PartCheck> {
+        let mut all = SHARED.iter().chain(self.keys);
+        all.find(|(k, _)| *k == key).map(|(_, c)| *c)
     }
 }
 
@@ -108,7 +156,7 @@ pub fn parse<T: DeserializeOwned>(
     let table = root.get_ref();
     for (key, value) in table.iter() {
         let name = key.get_ref().as_ref();
-        let Some((_, check)) = layout.keys.iter().find(|(k, _)| *k == name) else {
+        let Some(check) = layout.check(name) else {
             out.push(|| {
                 let what = Some(one_of(&layout.key_names()));
                 let message = format!("unknown field `{name}`");
@@ -121,7 +169,7 @@ pub fn parse<T: DeserializeOwned>(
             out.push(|| Diagnostic::from_toml_or_at(file, text, &e, Some(span.clone())));
         }
     }
-    for (key, what) in layout.required {
+    for (key, what) in SHARED_REQUIRED.iter().chain(layout.required) {
         if !table.contains_key(*key) {
             out.push(|| {
                 let message = format!("missing field `{key}`");
