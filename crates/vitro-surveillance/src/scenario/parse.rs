@@ -34,8 +34,8 @@ pub const TOP_LEVEL_KEYS: [&str; 20] = [
     "record",
 ];
 
-/// The top level of a surveillance scenario: each key with the check of its value, and the
-/// keys a file must have.
+/// The surveillance's own top-level keys (beside the shared ones), each with the check of
+/// its value, and those a file must have.
 const LAYOUT: Layout<'static> = Layout {
     keys: &[
         ("station", one::<StationSpec>),

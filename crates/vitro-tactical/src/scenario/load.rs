@@ -158,8 +158,8 @@ fn read_text(path: &Path, source: String) -> Result<(Loaded, Vec<Diagnostic>), D
     Ok((loaded, problems))
 }
 
-/// The top level of an evacuation scenario: its keys in the order of [`ScenarioFile`]'s
-/// fields, each with the check of its value, and the keys a file must have.
+/// The evacuation's own top-level keys (beside the shared ones), each with the check of its
+/// value, and those a file must have.
 const LAYOUT: Layout<'static> = Layout {
     keys: &[
         ("tie_order", one::<TieOrder>),
