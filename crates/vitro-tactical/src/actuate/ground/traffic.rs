@@ -55,6 +55,7 @@ pub(super) fn give(w: &Arena, id: EntityId, tr: &Track, s: f64, v: f64) -> Give 
     let ty = w.types.ground(me.kind);
     let a = FOLLOW_BRAKING * ty.max_decel;
     let reach = v * v / (2.0 * a) + GAP + LOOK;
+    let here = me.ground_point();
     // Others on the track ahead: (distance ahead, across, width, length, at rest, oncoming).
     let mut seen = Vec::new();
     for (oid, o) in w.chassis.iter() {
@@ -62,9 +63,13 @@ pub(super) fn give(w: &Arena, id: EntityId, tr: &Track, s: f64, v: f64) -> Give 
             continue;
         }
         let p = o.ground_point();
-        let so = project(tr, s, [p[0], p[1]]);
         let oty = w.types.ground(o.kind);
         let behind_ok = 0.5 * (ty.length + oty.length) + 1.0;
+        if libm::hypot(p[0] - here[0], p[1] - here[1]) > reach + behind_ok + 2.0 * ON_TRACK {
+            // Too far to be on the reach of track ahead or alongside.
+            continue;
+        }
+        let so = project(tr, s, [p[0], p[1]]);
         if so < s - behind_ok || so > s + reach {
             continue;
         }
