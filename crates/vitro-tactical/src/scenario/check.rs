@@ -389,6 +389,10 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
         3600.0,
         "seconds",
     );
+    for (key, w) in f.env.reward.weights() {
+        let path = format!("env.reward.{key}");
+        c.value(&path, w, w.is_finite(), "a finite reward weight");
+    }
     c.out
 }
 

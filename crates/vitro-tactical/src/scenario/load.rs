@@ -8,8 +8,8 @@ use super::check::{check_file, check_site};
 use super::loaded::Loaded;
 use super::span::{Diagnostic, Diagnostics, SourceMap};
 use super::{
-    ChannelSpec, EndSpec, EntitySpec, FidelitySpec, FormationSpec, MissionSpec, PatrolSpec, Places,
-    PursuitSpec, RecordSpec, RepairSpec, ScenarioFile, SensorsSpec, SiteSpec,
+    ChannelSpec, EndSpec, EntitySpec, EnvSpec, FidelitySpec, FormationSpec, MissionSpec,
+    PatrolSpec, Places, PursuitSpec, RecordSpec, RepairSpec, ScenarioFile, SensorsSpec, SiteSpec,
 };
 use serde::Deserialize as _;
 use serde::de::DeserializeOwned;
@@ -20,7 +20,7 @@ use vitro::time::UtcTime;
 use vitro_site::site::Site;
 
 /// The keys of a scenario file's top level, in the order of [`ScenarioFile`]'s fields.
-pub const TOP_LEVEL_KEYS: [&str; 18] = [
+pub const TOP_LEVEL_KEYS: [&str; 19] = [
     "kind",
     "name",
     "seed",
@@ -39,6 +39,7 @@ pub const TOP_LEVEL_KEYS: [&str; 18] = [
     "repair",
     "formation",
     "record",
+    "env",
 ];
 
 /// A scenario file read and checked against its site, with the site built.
@@ -219,6 +220,7 @@ pub(crate) fn parse(file: &Path, text: &str) -> Result<ScenarioFile, Vec<Diagnos
             "repair" => part::<RepairSpec>(v),
             "formation" => part::<FormationSpec>(v),
             "record" => part::<RecordSpec>(v),
+            "env" => part::<EnvSpec>(v),
             other => {
                 out.push(Diagnostic::new(
                     file,

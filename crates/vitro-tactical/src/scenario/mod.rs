@@ -31,12 +31,14 @@
 //! ```
 
 mod check;
+mod env;
 mod kind;
 mod load;
 mod loaded;
 mod span;
 
 pub use check::{ALTITUDE_M, MAX_COUNT, MAX_END_S};
+pub use env::{EnvSpec, RewardSpec};
 pub use load::{TOP_LEVEL_KEYS, Validated};
 pub use loaded::Loaded;
 pub use span::{Diagnostic, Diagnostics, SourceMap};
@@ -122,6 +124,13 @@ pub struct ScenarioFile {
     /// Sampling of the recording.
     #[serde(default)]
     pub record: RecordSpec,
+    /// Settings of the learning environment (the mission never reads them).
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub env: EnvSpec,
+}
+
+fn is_default(env: &EnvSpec) -> bool {
+    *env == EnvSpec::default()
 }
 
 /// The order of events due at the same time.
