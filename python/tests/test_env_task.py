@@ -92,3 +92,13 @@ def test_cover_is_credited_to_the_covering_unit(root):
     assert totals["vidar-1"] > totals["skeldar"] + 20, totals
     # The rewards are the seconds of cover the referee credited to each unit.
     assert [totals[a] for a in e.possible_agents] == e._sim.cover_s()
+
+
+def test_the_mission_ignores_the_env_table(root, tmp_path):
+    plain = with_env_table(root, tmp_path, "")
+    text = open(plain).read()
+    other = tmp_path / "with_env.toml"
+    other.write_text(text + "\n[env]\nhunt = true\n\n[env.reward]\ncover_s = 0.5\n")
+    a = vitro.run(plain, until=120)
+    b = vitro.run(str(other), until=120)
+    assert a["trace_hash"] == b["trace_hash"]
