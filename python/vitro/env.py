@@ -51,7 +51,8 @@ nothing); a unit that is down has only 0. A masked action is not carried out and
 
 **Time**: a step leaves the commands and runs the mission event by event for at most
 ``decision_s`` simulated seconds; it stops earlier, after the second in which a driven unit
-reached its goal or saw a hostile it had not seen before.
+reached its goal or saw a hostile it had not seen before, or (unless ``hunt``) the mission
+was decided.
 
 **The task**: ``scenarios/evacuation_env.toml`` is the evacuation made hard enough that the
 driven units decide the outcome (20 quick red troopers whose every shot hits, no fixed-wing
