@@ -10,7 +10,8 @@ use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::external::{Command, SharedDesk, lock, target_points};
 use vitro_mission::{BuildOptions, Mission as _, RegistryError, Run};
-use vitro_tactical::condition::Status;
+use vitro_tactical::condition::{Role, Status};
+use vitro_tactical::scenario::EnvSpec;
 use vitro_tactical::world::Side;
 use vitro_tools::ToolError;
 
@@ -25,6 +26,10 @@ pub struct EvacSim {
     desk: SharedDesk,
     agents: Vec<(String, EntityId)>,
     targets: Vec<[f64; 3]>,
+    /// The scenario's `[env]` table.
+    env: EnvSpec,
+    /// Seconds each agent (in `agents` order) covered a team member so far.
+    cover_s: Vec<f64>,
 }
 
 fn side_code(s: Side) -> i64 {
@@ -54,6 +59,7 @@ fn build(
     }
     let v = vitro_evac::validated(&path, &text, options.fidelity.as_deref())
         .map_err(|e| vitro_tools::scenario_error(&path, RegistryError::Mission(e)))?;
+    let env = v.loaded.file.env.clone();
     let can = Mission::controllable(&v);
     let units = units.unwrap_or_else(|| can.clone());
     if units.is_empty() {
@@ -80,15 +86,55 @@ fn build(
         })
         .collect();
     let points = target_points(&mission.brief);
+    let cover_s = vec![0.0; units.len()];
     Ok(EvacSim {
         mission,
         desk,
         agents,
         targets: points,
+        env,
+        cover_s,
     })
 }
 
 impl EvacSim {
+    /// Credits `dt` seconds of cover to each agent that is an active aircraft within the
+    /// cover radius of an active team member (the truck, a trooper, the VIP), while the VIP
+    /// is not out yet (the referee's escort).
+    fn credit_cover(&mut self, dt: f64) {
+        if self.mission.referee.metrics.success {
+            return;
+        }
+        let w = self.mission.sim.env();
+        let radius = self.mission.brief.mission.cover_radius_m;
+        let team: Vec<[f64; 3]> = w
+            .conditions
+            .iter()
+            .filter(|(_, c)| {
+                c.side == Side::Blue
+                    && c.status == Status::Active
+                    && matches!(c.role, Role::Truck | Role::Trooper | Role::Vip)
+            })
+            .filter_map(|(id, _)| w.pose(id).map(|p| p.pos))
+            .collect();
+        for ((_, id), cover) in self.agents.iter().zip(self.cover_s.iter_mut()) {
+            let flying = w
+                .conditions
+                .get(*id)
+                .is_some_and(|c| c.role.is_aircraft() && c.status == Status::Active);
+            let Some(me) = w.pose(*id).filter(|_| flying) else {
+                continue;
+            };
+            let near = |p: &[f64; 3]| {
+                let (dx, dy) = (p[0] - me.pos[0], p[1] - me.pos[1]);
+                dx * dx + dy * dy <= radius * radius
+            };
+            if team.iter().any(near) {
+                *cover += dt;
+            }
+        }
+    }
+
     fn id(&self, agent: &str) -> Result<EntityId, ToolError> {
         self.agents
             .iter()
@@ -216,8 +262,16 @@ impl EvacSim {
 
     /// Runs at most `max_s` simulated seconds, in slices of a second; with `stop_on_news`
     /// stops after the first slice in which a driven unit reached its goal or saw a new
-    /// hostile. Returns false once the mission is over.
-    fn advance(&mut self, py: Python<'_>, max_s: f64, stop_on_news: bool) -> PyResult<bool> {
+    /// hostile, with `stop_when_decided` after the slice in which the mission was decided
+    /// (the VIP extracted or down). Returns false once the mission is over.
+    #[pyo3(signature = (max_s, stop_on_news, stop_when_decided=false))]
+    fn advance(
+        &mut self,
+        py: Python<'_>,
+        max_s: f64,
+        stop_on_news: bool,
+        stop_when_decided: bool,
+    ) -> PyResult<bool> {
         let run = || {
             if !(max_s > 0.0 && max_s.is_finite()) {
                 return Err(ToolError::Input(format!(
@@ -232,9 +286,21 @@ impl EvacSim {
                 (self.mission.sim.now() + SimDuration::from_secs_f64(max_s)).min(self.mission.end);
             let slice = SimDuration::from_secs_f64(SLICE_S);
             loop {
-                let t: SimTime = (self.mission.sim.now() + slice).min(stop);
-                if !self.mission.advance(t) {
+                let before = self.mission.sim.now();
+                let t: SimTime = (before + slice).min(stop);
+                let going = self.mission.advance(t);
+                self.credit_cover(
+                    self.mission
+                        .sim
+                        .now()
+                        .saturating_since(before)
+                        .as_secs_f64(),
+                );
+                if !going {
                     return Ok(false);
+                }
+                if stop_when_decided && self.mission.referee.decided() {
+                    return Ok(true);
                 }
                 let news = lock(&self.desk)
                     .units
@@ -303,6 +369,23 @@ impl EvacSim {
                 [p[0], p[1], p[2], code]
             })
             .collect()
+    }
+
+    /// The scenario's `[env]` table as JSON text: `hunt` and `reward` (every weight).
+    fn env_settings(&self) -> String {
+        serde_json::to_string(&self.env).unwrap_or_default()
+    }
+
+    /// Seconds each agent (in `agents()` order) was an active aircraft within the cover
+    /// radius of an active team member (the truck, a trooper, the VIP) while the VIP was not
+    /// out yet, so far (the referee's measure, never given to an agent).
+    fn cover_s(&self) -> Vec<f64> {
+        self.cover_s.clone()
+    }
+
+    /// True once the mission is decided: the VIP extracted or down.
+    fn decided(&self) -> bool {
+        self.mission.referee.decided()
     }
 
     /// The mission's metrics so far (the referee's, never given to an agent), as JSON text.

@@ -51,18 +51,48 @@ nothing); a unit that is down has only 0. A masked action is not carried out and
 
 **Time**: a step leaves the commands and runs the mission event by event for at most
 ``decision_s`` simulated seconds; it stops earlier, after the second in which a driven unit
-reached its goal or saw a hostile it had not seen before.
+reached its goal or saw a hostile it had not seen before, or (unless ``hunt``) the mission
+was decided.
 
-**Rewards** (the same team reward for every agent, from the referee's metrics over the
-step): ``+1`` per adversary newly detected by the blue side, ``-0.01`` per second the team
-was uncovered by a drone, ``-5`` per blue casualty, ``+10`` when the VIP is extracted
-(``success``), ``-10`` if the VIP is down.
+**The task**: ``scenarios/evacuation_env.toml`` is the evacuation made hard enough that the
+driven units decide the outcome (20 quick red troopers whose every shot hits, no fixed-wing
+scout: the team is covered only where the driven helicopters are). Its difficulty knobs are
+the scenario's keys (``count`` of the red troopers, ``mission.hit_probability``,
+``mission.attack_aim_s``, ``channel.loss``, the aircraft); ``scenarios/evacuation.toml``
+runs too, but there the escort's own units decide almost every outcome.
 
-**Episodes** end (``terminations``) when the mission is decided, or for one agent when it
-is down (it then leaves ``env.agents``, as PettingZoo's parallel API has it; SuperSuit's
-vector environments need a fixed agent set: wrap with ``supersuit.black_death_v3``); they
-are cut (``truncations``) at the scenario's end time, at ``until``, or after ``max_cycles``
-steps.
+**Rewards** come from the referee's measures over the step, weighted by the scenario's
+``[env.reward]`` table (read and checked with the scenario: an unknown key or a weight that
+is not finite is reported at its file, line and column); the constructor's ``reward``
+replaces weights by key; ``env.reward_weights`` holds the weights in force. Team terms go
+to every agent alike, per-agent terms to the agent that earned them:
+
+================ ======== ============================================================ =======
+key              kind     per                                                          default
+================ ======== ============================================================ =======
+``success``      team     once, when the VIP reaches the extraction point              10
+``vip_down``     team     once, when the VIP is down                                   -10
+``casualty``     team     blue person (trooper or VIP) down                            -5
+``detection``    team     adversary the blue side reports for the first time           1
+``uncovered_s``  team     second some team member has no friendly aircraft within      -0.01
+                          ``mission.cover_radius_m`` (until the VIP is out)
+``cover_s``      agent    second the agent (an aircraft) is within                     0
+                          ``mission.cover_radius_m`` of an active team member (the
+                          truck, a trooper, the VIP) until the VIP is out (ground truth,
+                          sampled every simulated second)
+``down``         agent    once, when the agent goes down                               0
+================ ======== ============================================================ =======
+
+(The defaults are those of a scenario without the table; ``evacuation_env.toml`` sets
+``detection = 0`` and ``cover_s = 0.01``.)
+
+**Episodes** end (``terminations``) when the mission is decided (the VIP extracted or down:
+the step stops in that second), or for one agent when it is down (it then leaves
+``env.agents``, as PettingZoo's parallel API has it; SuperSuit's vector environments need a
+fixed agent set: wrap with ``supersuit.black_death_v3``). With ``hunt`` (the constructor's,
+else the scenario's ``env.hunt``, default false) the episode goes on through the HVT hunt
+and ends when the mission is over. Episodes are cut (``truncations``) at the scenario's end
+time, at ``until``, or after ``max_cycles`` steps.
 
 **Seeds** (Gymnasium's semantics): ``reset(seed=s)`` builds the run with master seed ``s``
 and seeds the environment's own generator with ``s``; ``reset()`` without a seed starts
@@ -97,17 +127,10 @@ from pettingzoo.utils.conversions import parallel_to_aec
 from . import _vitro
 from .errors import InputError
 
-__all__ = ["parallel_env", "env", "EvacuationEnv", "REWARDS"]
+__all__ = ["parallel_env", "env", "EvacuationEnv", "REWARD_KEYS"]
 
-#: Reward weights: per adversary detected, per second uncovered, per casualty, on success,
-#: if the VIP is down.
-REWARDS = {
-    "adversaries_detected": 1.0,
-    "time_uncovered_s": -0.01,
-    "casualties": -5.0,
-    "success": 10.0,
-    "vip_down": -10.0,
-}
+#: The keys of the reward table (``[env.reward]``): team terms, then per-agent terms.
+REWARD_KEYS = ("success", "vip_down", "casualty", "detection", "uncovered_s", "cover_s", "down")
 
 
 def _metric(metrics, name):
@@ -142,6 +165,8 @@ class EvacuationEnv(ParallelEnv):
         max_contacts=8,
         max_cycles=None,
         flat=False,
+        hunt=None,
+        reward=None,
         render_mode=None,
     ):
         if render_mode is not None:
@@ -154,6 +179,14 @@ class EvacuationEnv(ParallelEnv):
             isinstance(max_cycles, int) and not isinstance(max_cycles, bool) and max_cycles > 0
         ):
             raise InputError(f"max_cycles {max_cycles!r}: expected a positive integer")
+        if hunt is not None and not isinstance(hunt, bool):
+            raise InputError(f"hunt {hunt!r}: expected True or False")
+        reward = dict(reward or {})
+        for key, w in reward.items():
+            if key not in REWARD_KEYS:
+                raise InputError(f"reward {key!r}: expected one of {', '.join(REWARD_KEYS)}")
+            if not (isinstance(w, (int, float)) and not isinstance(w, bool) and np.isfinite(w)):
+                raise InputError(f"reward {key} = {w!r}: expected a finite number")
         self._kwargs = dict(
             scenario_path=os.fspath(scenario_path),
             seed=seed,
@@ -164,6 +197,8 @@ class EvacuationEnv(ParallelEnv):
             max_contacts=max_contacts,
             max_cycles=max_cycles,
             flat=bool(flat),
+            hunt=hunt,
+            reward=reward or None,
         )
         self.scenario_path = os.fspath(scenario_path)
         self.fidelity = fidelity
@@ -180,6 +215,13 @@ class EvacuationEnv(ParallelEnv):
         self._sim = self._build(seed)
         #: True while ``_sim`` is as built (never stepped): a reset to its seed reuses it.
         self._fresh = True
+        settings = json.loads(self._sim.env_settings())
+        #: Whether an episode goes on through the HVT hunt once the mission is decided (the
+        #: constructor's ``hunt``, else the scenario's ``env.hunt``).
+        self.hunt = settings["hunt"] if hunt is None else hunt
+        #: The reward's weights: the scenario's ``[env.reward]`` table (its defaults for the
+        #: keys it leaves out), then the constructor's ``reward`` overrides.
+        self.reward_weights = {**settings["reward"], **{k: float(w) for k, w in reward.items()}}
         self.possible_agents = list(self._sim.agents())
         self.agents = []
         #: The targets' world points (x, y, z), in action order (action 1 + i is target i).
@@ -334,19 +376,24 @@ class EvacuationEnv(ParallelEnv):
         self._cycles = 0
         self.agents = list(self.possible_agents)
         self._last = self.metrics()
+        self._cover = dict(zip(self.possible_agents, self._sim.cover_s()))
         observations, infos = {}, {}
         for a in self.agents:
             observations[a], k, mask = self._observe(a)
             infos[a] = self._info(k, mask)
         return observations, infos
 
-    def _reward(self, metrics):
-        r = 0.0
-        for name in ("adversaries_detected", "time_uncovered_s", "casualties"):
-            r += REWARDS[name] * (_metric(metrics, name) - _metric(self._last, name))
+    def _team_reward(self, metrics):
+        """The team terms over the last step (the referee's metrics then and now)."""
+        w, last = self.reward_weights, self._last
+        r = w["detection"] * (_metric(metrics, "adversaries_detected") -
+                              _metric(last, "adversaries_detected"))
+        r += w["uncovered_s"] * (_metric(metrics, "time_uncovered_s") -
+                                 _metric(last, "time_uncovered_s"))
+        r += w["casualty"] * (_metric(metrics, "casualties") - _metric(last, "casualties"))
         for name in ("success", "vip_down"):
-            if metrics.get(name) and not self._last.get(name):
-                r += REWARDS[name]
+            if metrics.get(name) and not last.get(name):
+                r += w[name]
         return r
 
     def step(self, actions):
@@ -356,21 +403,26 @@ class EvacuationEnv(ParallelEnv):
         for agent, action in actions.items():
             if agent in self.agents:
                 self._sim.command(agent, int(action))
-        going = self._sim.advance(self.decision_s, True)
+        going = self._sim.advance(self.decision_s, True, not self.hunt)
         self._cycles += 1
         metrics = self.metrics()
-        reward = self._reward(metrics)
+        team = self._team_reward(metrics)
         self._last = metrics
+        cover = dict(zip(self.possible_agents, self._sim.cover_s()))
         out_of_time = self._sim.now() >= self._sim.end()
         out_of_cycles = self.max_cycles is not None and self._cycles >= self.max_cycles
-        decided = not going and not out_of_time
+        over = (not going and not out_of_time) or (not self.hunt and self._sim.decided())
+        w = self.reward_weights
         observations, rewards, terminations, truncations, infos = {}, {}, {}, {}, {}
         for a in self.agents:
             observations[a], k, mask = self._observe(a)
-            rewards[a] = reward
-            terminations[a] = decided or not k["active"]
+            rewards[a] = team + w["cover_s"] * (cover[a] - self._cover[a])
+            if not k["active"]:
+                rewards[a] += w["down"]
+            terminations[a] = over or not k["active"]
             truncations[a] = not terminations[a] and (out_of_time or out_of_cycles or not going)
             infos[a] = self._info(k, mask)
+        self._cover = cover
         self.agents = [a for a in self.agents if not (terminations[a] or truncations[a])]
         return observations, rewards, terminations, truncations, infos
 
@@ -388,7 +440,9 @@ def parallel_env(scenario_path, seed=None, fidelity=None, **kwargs):
     one), ``decision_s`` (most simulated seconds per step, default 30), ``until`` (end the
     episode at this simulated time), ``max_contacts`` (rows of ``seen`` and ``heard``),
     ``max_cycles`` (truncate the episode after this many steps), ``flat`` (one flat
-    float32 ``Box`` per agent beside its action mask).
+    float32 ``Box`` per agent beside its action mask), ``hunt`` (go on through the HVT hunt
+    once the mission is decided; default the scenario's ``env.hunt``), ``reward`` (weights
+    by key of ``[env.reward]`` that replace the scenario's).
     """
     return EvacuationEnv(scenario_path, seed=seed, fidelity=fidelity, **kwargs)
 

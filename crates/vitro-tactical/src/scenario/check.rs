@@ -255,6 +255,10 @@ pub(crate) fn check_file(loaded: &Loaded, map: &SourceMap<'_>) -> Vec<Diagnostic
         "metres",
     );
     c.record(&f.record);
+    for (key, w) in f.env.reward.weights() {
+        let path = format!("env.reward.{key}");
+        c.value(&path, w, w.is_finite(), "a finite reward weight");
+    }
     c.finish()
 }
 

@@ -10,14 +10,14 @@ use super::loaded::Loaded;
 use super::span::{Diagnostic, Diagnostics, SourceMap};
 use super::tables::{self, Layout, one};
 use super::{
-    FormationSpec, MissionSpec, PatrolSpec, Places, PursuitSpec, RepairSpec, ScenarioFile,
+    EnvSpec, FormationSpec, MissionSpec, PatrolSpec, Places, PursuitSpec, RepairSpec, ScenarioFile,
     SensorsSpec, TieOrder,
 };
 use std::path::Path;
 use vitro_site::site::Site;
 
 /// The keys of a scenario file's top level, in the order of [`ScenarioFile`]'s fields.
-pub const TOP_LEVEL_KEYS: [&str; 18] = [
+pub const TOP_LEVEL_KEYS: [&str; 19] = [
     "kind",
     "name",
     "seed",
@@ -36,6 +36,7 @@ pub const TOP_LEVEL_KEYS: [&str; 18] = [
     "repair",
     "formation",
     "record",
+    "env",
 ];
 
 /// A scenario file read and checked against its site, with the site built.
@@ -170,6 +171,7 @@ const LAYOUT: Layout<'static> = Layout {
         ("pursuit", one::<PursuitSpec>),
         ("repair", one::<RepairSpec>),
         ("formation", one::<FormationSpec>),
+        ("env", one::<EnvSpec>),
     ],
     required: &[("places", "a top-level `places`")],
 };

@@ -32,6 +32,7 @@
 
 mod check;
 pub mod checker;
+mod env;
 mod kind;
 mod load;
 mod loaded;
@@ -39,6 +40,7 @@ mod span;
 pub mod tables;
 
 pub use checker::{ALTITUDE_M, MAX_COUNT, MAX_END_S};
+pub use env::{EnvSpec, RewardSpec};
 pub use load::{TOP_LEVEL_KEYS, Validated};
 pub use loaded::Loaded;
 pub use span::{Diagnostic, Diagnostics, MAX_PROBLEMS, SourceMap};
@@ -124,6 +126,13 @@ pub struct ScenarioFile {
     /// Sampling of the recording.
     #[serde(default)]
     pub record: RecordSpec,
+    /// Settings of the learning environment (the mission never reads them).
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub env: EnvSpec,
+}
+
+fn is_default(env: &EnvSpec) -> bool {
+    *env == EnvSpec::default()
 }
 
 /// The order of events due at the same time.
