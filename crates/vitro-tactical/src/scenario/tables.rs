@@ -112,7 +112,7 @@ pub struct Layout<'a> {
     /// The mission's own top-level keys, each with the check of its value.
     pub keys: &'a [(&'a str, PartCheck)],
     /// The mission's own keys a file must have, each with what is expected in words
-    /// (`"a `[station]` table with its `start`"`).
+    /// (for the surveillance, its `station` table).
     pub required: &'a [(&'a str, &'a str)],
 }
 
