@@ -306,9 +306,16 @@ impl Index {
                     });
                     let mut at = 0;
                     while let Some((opcode, body, after)) = chunk_record(&records, at) {
-                        match mcap::parse_record(opcode, body) {
-                            Ok(Record::Channel(c)) => vitro.add(&c),
-                            Ok(Record::Message { header, .. }) => {
+                        // Only channels and messages are read: a chunk holds nothing else
+                        // a replay needs (and mcap's parser of other records, attachments
+                        // among them, panics on some malformed bodies).
+                        let record = match opcode {
+                            op::CHANNEL | op::MESSAGE => mcap::parse_record(opcode, body).ok(),
+                            _ => None,
+                        };
+                        match record {
+                            Some(Record::Channel(c)) => vitro.add(&c),
+                            Some(Record::Message { header, .. }) => {
                                 let loc = MessageLoc {
                                     t_ns: header.log_time,
                                     chunk,

@@ -117,3 +117,11 @@ fn a_summary_section_holding_a_chunk_is_not_trusted() {
     let bytes = include_bytes!("fuzz/summary_with_chunk.mcap");
     assert!(Replay::from_reader(Cursor::new(&bytes[..])).is_err());
 }
+
+/// A file without a summary whose chunk holds a malformed attachment record (mcap's
+/// attachment parser once sliced past its end): the scan reads only channels and messages.
+#[test]
+fn a_malformed_attachment_inside_a_chunk_is_skipped() {
+    let bytes = include_bytes!("fuzz/chunk_with_attachment.mcap");
+    assert!(Replay::from_reader(Cursor::new(&bytes[..])).is_err());
+}
