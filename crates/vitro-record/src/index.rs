@@ -72,9 +72,11 @@ fn record_head<R: Read + Seek>(r: &mut R, offset: u64, file_len: u64) -> Option<
 /// Length of the footer record (opcode, length, summary start, summary offset start, CRC).
 const FOOTER: u64 = PREFIX + 20;
 
-/// True unless the summary section holds a record that a summary never has and that mcap's
-/// summary reader mishandles: a chunk (it reads a chunk's records past the chunk's end), or a
-/// record that overruns the section. A file without a summary passes.
+/// True when the summary section holds only the records a summary may have (schemas, channels,
+/// chunk, attachment and metadata indexes, statistics, summary offsets), each within the
+/// section. mcap's summary reader mishandles others: it reads a chunk's records past the
+/// chunk's end, and its attachment parser slices past a malformed body. A file without a
+/// summary passes.
 fn summary_section_is_plain<R: Read + Seek>(r: &mut R, file_len: u64) -> bool {
     let magic = mcap::MAGIC.len() as u64;
     let Some(footer) = file_len.checked_sub(magic + FOOTER) else {
@@ -92,8 +94,17 @@ fn summary_section_is_plain<R: Read + Seek>(r: &mut R, file_len: u64) -> bool {
     let mut at = start;
     while at < footer {
         match record_head(r, at, footer) {
-            Some((op::CHUNK, _)) | None => return false,
-            Some((_, len)) => at += PREFIX + len,
+            Some((
+                op::SCHEMA
+                | op::CHANNEL
+                | op::CHUNK_INDEX
+                | op::ATTACHMENT_INDEX
+                | op::METADATA_INDEX
+                | op::STATISTICS
+                | op::SUMMARY_OFFSET,
+                len,
+            )) => at += PREFIX + len,
+            _ => return false,
         }
     }
     true

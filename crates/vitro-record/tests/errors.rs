@@ -109,13 +109,18 @@ fn a_frame_that_does_not_decode_names_its_time() {
     );
 }
 
-/// A file whose footer points its summary section at a chunk (mcap's summary reader once
-/// read the chunk's records past its end and overflowed): the summary is not trusted and
-/// the file is scanned, which finds no recording.
+/// Files whose footer points their summary section at a chunk (mcap's summary reader once
+/// read the chunk's records past its end and overflowed) or at a malformed attachment (its
+/// parser sliced past the body): a summary holding records a summary never has is not
+/// trusted, and the file is scanned, which finds no recording.
 #[test]
-fn a_summary_section_holding_a_chunk_is_not_trusted() {
-    let bytes = include_bytes!("fuzz/summary_with_chunk.mcap");
-    assert!(Replay::from_reader(Cursor::new(&bytes[..])).is_err());
+fn a_summary_section_holding_data_records_is_not_trusted() {
+    for bytes in [
+        &include_bytes!("fuzz/summary_with_chunk.mcap")[..],
+        &include_bytes!("fuzz/summary_with_attachment.mcap")[..],
+    ] {
+        assert!(Replay::from_reader(Cursor::new(bytes)).is_err());
+    }
 }
 
 /// A file without a summary whose chunk holds a malformed attachment record (mcap's
