@@ -29,7 +29,7 @@
 //! ]);
 //! ```
 
-use super::span::{Diagnostic, MAX_PROBLEMS, SourceMap};
+use super::span::{Capped, Diagnostic, SourceMap};
 use super::{
     ChannelSpec, EndSpec, EntitySpec, EntityType, FidelitySpec, RecordSpec, SiteSpec, VisionSpec,
 };
@@ -54,9 +54,7 @@ pub const TOWN_XY: &str = "town metres [x, y]";
 pub struct Checker<'a> {
     map: &'a SourceMap<'a>,
     entities: &'a [EntitySpec],
-    out: Vec<Diagnostic>,
-    /// Problems found past [`MAX_PROBLEMS`], counted only.
-    dropped: usize,
+    out: Capped<'a>,
 }
 
 impl<'a> Checker<'a> {
@@ -66,40 +64,28 @@ impl<'a> Checker<'a> {
         Checker {
             map,
             entities,
-            out: Vec::new(),
-            dropped: 0,
+            out: Capped::new(map.file()),
         }
     }
 
-    /// The problems found, in the order they were found (at most [`MAX_PROBLEMS`], then a
-    /// count of the rest).
-    pub fn finish(mut self) -> Vec<Diagnostic> {
-        if self.dropped > 0 {
-            self.out
-                .push(Diagnostic::more(self.map.file(), self.dropped));
-        }
-        self.out
+    /// The problems found, in the order they were found (at most
+    /// [`MAX_PROBLEMS`](super::MAX_PROBLEMS), then a count of the rest).
+    pub fn finish(self) -> Vec<Diagnostic> {
+        self.out.finish()
     }
 
     /// Adds a problem: `message` at the key `path` (`"channel.loss"`, `"entity.0.count"`),
     /// with what was expected.
     pub fn push(&mut self, path: &str, message: String, expected: &str) {
-        if self.out.len() < MAX_PROBLEMS {
-            self.out.push(self.map.at(path, message, expected));
-        } else {
-            self.dropped += 1;
-        }
+        let map = self.map;
+        self.out.push(|| map.at(path, message, expected));
     }
 
     /// Adds problems found elsewhere (a program the scenario names, a site that did not
     /// build).
     pub fn extend(&mut self, problems: impl IntoIterator<Item = Diagnostic>) {
         for d in problems {
-            if self.out.len() < MAX_PROBLEMS {
-                self.out.push(d);
-            } else {
-                self.dropped += 1;
-            }
+            self.out.push(|| d);
         }
     }
 

@@ -170,6 +170,39 @@ impl fmt::Display for Diagnostics {
     }
 }
 
+/// At most [`MAX_PROBLEMS`] diagnostics, each made only if it is kept, and a count of the
+/// rest.
+pub(crate) struct Capped<'a> {
+    file: &'a Path,
+    out: Vec<Diagnostic>,
+    dropped: usize,
+}
+
+impl<'a> Capped<'a> {
+    pub(crate) fn new(file: &'a Path) -> Self {
+        Capped {
+            file,
+            out: Vec::new(),
+            dropped: 0,
+        }
+    }
+
+    pub(crate) fn push(&mut self, make: impl FnOnce() -> Diagnostic) {
+        if self.out.len() < MAX_PROBLEMS {
+            self.out.push(make());
+        } else {
+            self.dropped += 1;
+        }
+    }
+
+    pub(crate) fn finish(mut self) -> Vec<Diagnostic> {
+        if self.dropped > 0 {
+            self.out.push(Diagnostic::more(self.file, self.dropped));
+        }
+        self.out
+    }
+}
+
 /// The spans of a parsed TOML document, found by dotted path.
 pub struct SourceMap<'i> {
     file: &'i Path,

@@ -56,7 +56,7 @@
 //! assert!(lines[1].starts_with("w.toml:4:18: invalid type: string \"soon\""), "{lines:?}");
 //! ```
 
-use super::span::{Diagnostic, MAX_PROBLEMS};
+use super::span::{Capped, Diagnostic};
 use super::{ChannelSpec, EndSpec, EntitySpec, FidelitySpec, RecordSpec, SiteSpec};
 use serde::de::DeserializeOwned;
 use std::path::Path;
@@ -182,39 +182,6 @@ pub fn parse<T: DeserializeOwned>(
         out.push(whole);
     }
     Err(out)
-}
-
-/// At most [`MAX_PROBLEMS`] diagnostics, each made only if it is kept, and a count of the
-/// rest.
-struct Capped<'a> {
-    file: &'a Path,
-    out: Vec<Diagnostic>,
-    dropped: usize,
-}
-
-impl<'a> Capped<'a> {
-    fn new(file: &'a Path) -> Self {
-        Capped {
-            file,
-            out: Vec::new(),
-            dropped: 0,
-        }
-    }
-
-    fn push(&mut self, make: impl FnOnce() -> Diagnostic) {
-        if self.out.len() < MAX_PROBLEMS {
-            self.out.push(make());
-        } else {
-            self.dropped += 1;
-        }
-    }
-
-    fn finish(mut self) -> Vec<Diagnostic> {
-        if self.dropped > 0 {
-            self.out.push(Diagnostic::more(self.file, self.dropped));
-        }
-        self.out
-    }
 }
 
 /// "one of `a`, `b`, `c`".
