@@ -11,7 +11,7 @@ use vitro_evac::Mission;
 use vitro_evac::external::{Command, SharedDesk, lock, target_points};
 use vitro_mission::{BuildOptions, Mission as _, RegistryError, Run};
 use vitro_tactical::condition::{Role, Status};
-use vitro_tactical::scenario::EnvSpec;
+use vitro_evac::scenario::EnvSpec;
 use vitro_tactical::world::Side;
 use vitro_tools::ToolError;
 

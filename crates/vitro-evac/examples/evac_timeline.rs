@@ -14,7 +14,8 @@ use vitro::time::{SimDuration, SimTime};
 use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::commander::{Commander, Phase};
-use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile};
+use vitro_evac::scenario::ScenarioFile;
+use vitro_tactical::scenario::{FidelitySpec, Preset};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();

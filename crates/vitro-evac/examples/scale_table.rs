@@ -25,7 +25,8 @@ use std::process::Command;
 use std::time::Instant;
 use vitro::time::SimTime;
 use vitro_evac::Mission;
-use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile};
+use vitro_evac::scenario::ScenarioFile;
+use vitro_tactical::scenario::{FidelitySpec, Preset};
 
 /// Red troopers in one extra block.
 const BLOCK_RED: u32 = 100;

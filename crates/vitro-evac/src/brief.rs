@@ -2,6 +2,7 @@
 //! team, the map, the planned route, the places, the rules of engagement and the
 //! algorithms' settings. Static, shared (`Arc`), never written during a run.
 
+use crate::scenario::{MissionSpec, PatrolSpec, PursuitSpec, RepairSpec, SensorsSpec};
 use std::sync::Arc;
 use vitro::comm::GroupId;
 use vitro::entity::EntityId;
@@ -12,7 +13,6 @@ use vitro_site::site::Site;
 use vitro_tactical::behaviour::formation::FormationParams;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::roads::Roads;
-use vitro_tactical::scenario::{MissionSpec, PatrolSpec, PursuitSpec, RepairSpec, SensorsSpec};
 use vitro_tactical::types::TroopKind;
 
 /// The radio group of the blue side (contact reports go to it).

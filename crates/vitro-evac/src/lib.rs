@@ -30,12 +30,14 @@ mod member;
 mod plugin;
 pub mod radio;
 pub mod referee;
+pub mod scenario;
 pub mod sense;
 mod setup;
 mod snapshot;
 pub mod view;
 
 use crate::radio::Radio;
+use crate::scenario::{ScenarioFile, Validated};
 use brief::Brief;
 pub use error::MissionError;
 pub use member::Member;
@@ -48,7 +50,7 @@ use vitro::entity::EntityId;
 use vitro::time::SimTime;
 use vitro_mission::session::{Session, Setup};
 use vitro_tactical::condition::{Role, Status};
-use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile, Validated};
+use vitro_tactical::scenario::{FidelitySpec, Preset};
 use vitro_tactical::world::Side;
 
 /// A run of the evacuation: the generic run with the mission's own part, [`Mission`].

@@ -4,6 +4,7 @@
 
 use crate::radio::{Evac, Radio};
 use crate::referee::Metrics;
+use crate::scenario::{ScenarioFile, Validated};
 use crate::{EvacRun, Mission, MissionError, over, radio_kind, snapshot, view};
 use std::path::Path;
 use vitro::entity::EntityId;
@@ -12,7 +13,7 @@ use vitro::time::SimTime;
 use vitro_mission::session::{Heard, Play};
 use vitro_mission::{BuildOptions, Metric, MetricTable, Run, SnapshotError, metric_table};
 use vitro_record::{Frame, Scene};
-use vitro_tactical::scenario::{FidelitySpec, Preset, ScenarioFile, Validated};
+use vitro_tactical::scenario::{FidelitySpec, Preset};
 
 /// The evacuation mission, registered as `kind = "evacuation"`.
 #[derive(Clone, Copy, Debug, Default)]

@@ -15,6 +15,7 @@ use crate::error::MissionError;
 use crate::external::{External, SharedDesk};
 use crate::member::Member;
 use crate::radio::Evac;
+use crate::scenario::{ScenarioFile, Validated};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeSet;
@@ -36,7 +37,7 @@ use vitro_tactical::behaviour::route::VisitNodes;
 use vitro_tactical::condition::{Condition, Role, Status};
 use vitro_tactical::entity::roads::{FreeGraph, Roads};
 use vitro_tactical::model::Controller;
-use vitro_tactical::scenario::{EntityType, ScenarioFile, TieOrder, Validated};
+use vitro_tactical::scenario::{EntityType, TieOrder};
 use vitro_tactical::types::{CtolKind, GroundKind, TroopKind, TypeBook, VtolKind};
 use vitro_tactical::world::Side;
 
@@ -461,7 +462,7 @@ fn place(
 /// The squad's formation settings: the scenario's leader program (or the built-in one),
 /// checked by building a leader with it, and its spacing.
 fn formation_brief(
-    loaded: &vitro_tactical::scenario::Loaded,
+    loaded: &crate::scenario::Loaded,
     level: vitro_tactical::entity::Level,
 ) -> Result<FormationBrief, MissionError> {
     let (name, program) = match &loaded.program {

@@ -61,7 +61,7 @@ fn default_mission_succeeds_at_the_interpolated_level() {
 
 /// The default mission (seed 42, discrete, 900 s) with equal-time events in `order`.
 fn with_ties(order: vitro_tactical::scenario::TieOrder) -> (u64, vitro_evac::referee::Metrics) {
-    let mut v = vitro_tactical::scenario::ScenarioFile::validate(SCENARIO).expect("validates");
+    let mut v = vitro_evac::scenario::ScenarioFile::validate(SCENARIO).expect("validates");
     v.loaded.file.tie_order = order;
     let mut m = Mission::build(v, Some(42)).expect("builds");
     m.end = SimTime::from_secs(900);

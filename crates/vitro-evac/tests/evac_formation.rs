@@ -16,9 +16,10 @@ use vitro::time::SimTime;
 use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::commander::Phase;
+use vitro_evac::scenario::ScenarioFile;
 use vitro_tactical::behaviour::formation::{Switch, TrackPoint};
 use vitro_tactical::condition::Status;
-use vitro_tactical::scenario::{EntityType, FidelitySpec, Preset, ScenarioFile, SideSpec};
+use vitro_tactical::scenario::{EntityType, FidelitySpec, Preset, SideSpec};
 
 const SCENARIO: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

@@ -12,8 +12,9 @@ use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::commander::Phase;
 use vitro_evac::agents::trooper::Task;
+use vitro_evac::scenario::{PursuitLead, ScenarioFile};
 use vitro_tactical::condition::Status;
-use vitro_tactical::scenario::{FidelitySpec, Preset, PursuitLead, ScenarioFile};
+use vitro_tactical::scenario::{FidelitySpec, Preset};
 
 const SCENARIO: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

@@ -8,7 +8,8 @@ use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::air::Aircraft;
 use vitro_evac::agents::patrol::PatrolUnit;
-use vitro_tactical::scenario::{Preset, ScenarioFile};
+use vitro_evac::scenario::ScenarioFile;
+use vitro_tactical::scenario::Preset;
 
 const SCENARIO: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

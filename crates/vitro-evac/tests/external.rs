@@ -4,8 +4,8 @@
 
 use vitro::time::SimTime;
 use vitro_evac::external::{Command, lock, targets};
+use vitro_evac::scenario::ScenarioFile;
 use vitro_evac::{Mission, MissionError};
-use vitro_tactical::scenario::ScenarioFile;
 
 const SCENARIO: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

@@ -8,7 +8,8 @@ use vitro::time::SimTime;
 use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::air::{AirRole, Aircraft};
-use vitro_tactical::scenario::{EntityType, ScenarioFile};
+use vitro_evac::scenario::ScenarioFile;
+use vitro_tactical::scenario::EntityType;
 
 const SCENARIO: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

@@ -7,7 +7,8 @@ use vitro::time::SimTime;
 use vitro_evac::Mission;
 use vitro_evac::agents::air::Aircraft;
 use vitro_evac::referee::Metrics;
-use vitro_tactical::scenario::{FidelitySpec, Preset, RepairStrategy, ScenarioFile};
+use vitro_evac::scenario::{RepairStrategy, ScenarioFile};
+use vitro_tactical::scenario::{FidelitySpec, Preset};
 
 const SCENARIO: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

@@ -26,6 +26,7 @@
 
 use crate::brief::{BLUE, Brief};
 use crate::radio::{Evac, Radio};
+use crate::scenario::{PursuitAlgorithm, PursuitLead, PursuitSpec};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use vitro::comm::{Address, Outgoing};
@@ -44,7 +45,6 @@ use vitro_algo::pursuit::{
 use vitro_site::map::Mode;
 use vitro_tactical::arena::OwnPose;
 use vitro_tactical::belief::Whereabouts;
-use vitro_tactical::scenario::{PursuitAlgorithm, PursuitLead, PursuitSpec};
 
 /// `Radio::Signal(SEARCH, "x y")`: the hunt lead's most likely place of the target (world
 /// metres), sent to the blue group every turn.

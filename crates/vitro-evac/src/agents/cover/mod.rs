@@ -31,6 +31,7 @@
 pub mod watch;
 
 use crate::brief::Brief;
+use crate::scenario::RepairStrategy;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
 use vitro::entity::EntityId;
@@ -40,7 +41,6 @@ use vitro_algo::repair::{
     Strategy,
 };
 use vitro_site::map::Mode;
-use vitro_tactical::scenario::RepairStrategy;
 
 /// States one repair search may expand: a search with no plan within the bound counts as
 /// finding none (an unsolvable cover problem would otherwise be searched exhaustively).

@@ -1,12 +1,12 @@
 //! A scenario file read and checked, with its paths resolved: what building its site needs.
 
 use super::ScenarioFile;
-use super::checker::SiteFiles;
-use super::span::{Diagnostics, SourceMap};
-use crate::calibrate::{Calibration, site_fingerprint, types_fingerprint};
-use crate::types::TypeBook;
 use std::path::PathBuf;
 use vitro_site::site::Site;
+use vitro_tactical::calibrate::{Calibration, site_fingerprint, types_fingerprint};
+use vitro_tactical::scenario::checker::SiteFiles;
+use vitro_tactical::scenario::{Diagnostics, SourceMap};
+use vitro_tactical::types::TypeBook;
 
 /// A scenario file read and checked, with its paths resolved.
 #[derive(Clone, Debug)]

@@ -3,7 +3,7 @@
 //! and a scenario without it runs exactly as before.
 //!
 //! ```
-//! use vitro_tactical::scenario::EnvSpec;
+//! use vitro_evac::scenario::EnvSpec;
 //!
 //! let env: EnvSpec = toml::from_str("hunt = true\nreward = { cover_s = 0.05 }").unwrap();
 //! assert!(env.hunt);

@@ -6,12 +6,11 @@
 #![allow(clippy::disallowed_methods)]
 
 use std::path::{Path, PathBuf};
+use vitro_evac::scenario::{RepairStrategy, ScenarioFile};
 use vitro_site::geo::dist;
 use vitro_site::map::{MapConfig, TownMap};
 use vitro_tactical::entity::Level;
-use vitro_tactical::scenario::{
-    Diagnostics, EntityType, Preset, RepairStrategy, ScenarioFile, SideSpec,
-};
+use vitro_tactical::scenario::{Diagnostics, EntityType, Preset, SideSpec};
 use vitro_tactical::world::Side;
 
 fn repo() -> PathBuf {
@@ -426,7 +425,8 @@ fn the_mission_needs_its_team() {
 /// `MAX_PROBLEMS` problems and a count of the rest, not one line per problem.
 #[test]
 fn a_file_with_thousands_of_problems_reports_the_first_hundred() {
-    use vitro_tactical::scenario::{MAX_PROBLEMS, ScenarioFile};
+    use vitro_evac::scenario::ScenarioFile;
+    use vitro_tactical::scenario::MAX_PROBLEMS;
     let text = "name = \"x\"\n".to_owned() + &"key = = 1\n".repeat(5000);
     let e = ScenarioFile::validate_text("/nonexistent/many.toml", &text).unwrap_err();
     assert_eq!(e.0.len(), MAX_PROBLEMS + 1, "{}", e.report());

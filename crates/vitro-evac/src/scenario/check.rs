@@ -3,13 +3,15 @@
 //!
 //! Every check adds its problem and goes on, so one pass reports them all.
 
-use super::checker::{Checker, TOWN_XY};
+use super::ScenarioFile;
 use super::loaded::Loaded;
-use super::span::{Diagnostic, SourceMap};
-use super::{EntitySpec, EntityType, MAX_COUNT, MAX_END_S, ScenarioFile, SideSpec};
-use crate::behaviour::formation::Leader;
 use std::path::Path;
 use vitro_site::site::Site;
+use vitro_tactical::behaviour::formation::Leader;
+use vitro_tactical::scenario::checker::{Checker, TOWN_XY};
+use vitro_tactical::scenario::{
+    Diagnostic, EntitySpec, EntityType, MAX_COUNT, MAX_END_S, SideSpec, SourceMap,
+};
 
 /// The first problem of the formation rule program at `path` (if it can be read), at its
 /// own line and column: the program is checked as the leader will load it.

@@ -5,16 +5,16 @@
 //! `[[entity]]` on its own; then the semantic checks of [`check`](super::check).
 
 use super::check::{check_file, check_site};
-use super::checker::resolve;
 use super::loaded::Loaded;
-use super::span::{Diagnostic, Diagnostics, SourceMap};
-use super::tables::{self, Layout, one};
 use super::{
     EnvSpec, FormationSpec, MissionSpec, PatrolSpec, Places, PursuitSpec, RepairSpec, ScenarioFile,
     SensorsSpec, TieOrder,
 };
 use std::path::Path;
 use vitro_site::site::Site;
+use vitro_tactical::scenario::checker::resolve;
+use vitro_tactical::scenario::tables::{self, Layout, one};
+use vitro_tactical::scenario::{Diagnostic, Diagnostics, SourceMap};
 
 /// The keys of a scenario file's top level, in the order of [`ScenarioFile`]'s fields.
 pub const TOP_LEVEL_KEYS: [&str; 19] = [
@@ -47,7 +47,7 @@ pub struct Validated {
     /// The town on its terrain at the scenario's offset.
     pub site: Site,
     /// The calibration the scenario names, checked against its site and types.
-    pub calibration: Option<std::sync::Arc<crate::calibrate::Calibration>>,
+    pub calibration: Option<std::sync::Arc<vitro_tactical::calibrate::Calibration>>,
 }
 
 impl ScenarioFile {
@@ -56,7 +56,7 @@ impl ScenarioFile {
     /// entities the mission needs. Paths in the file are relative to its directory.
     ///
     /// ```
-    /// use vitro_tactical::scenario::ScenarioFile;
+    /// use vitro_evac::scenario::ScenarioFile;
     /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios/evacuation.toml");
     /// let loaded = ScenarioFile::load(path).unwrap();
     /// assert!(loaded.map.ends_with("data/maps/kotka.osm.pbf"));

@@ -4,7 +4,7 @@
 //! `cargo test -p vitro-tactical --test scenario_schema -- --ignored`.
 
 use std::path::PathBuf;
-use vitro_tactical::scenario::{TOP_LEVEL_KEYS, json_schema};
+use vitro_evac::scenario::{TOP_LEVEL_KEYS, json_schema};
 
 /// The schema as the committed file holds it: pretty JSON and a final newline.
 fn generated() -> String {
