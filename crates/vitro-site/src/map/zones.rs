@@ -6,7 +6,7 @@
 use super::TownMap;
 use crate::geo::{P2, Polygon, closest_on_segment, dist};
 use rstar::primitives::{GeomWithData, Rectangle};
-use rstar::{AABB, RTree};
+use rstar::{AABB, Envelope, RTree, RTreeObject};
 use serde::{Deserialize, Serialize};
 
 /// Buffers around forbidden areas, metres.
@@ -155,6 +155,47 @@ impl ForbiddenZones {
     /// True if `p` lies in a zone or within its buffer.
     pub fn is_forbidden(&self, p: P2) -> bool {
         self.forbidden_tol(p, 0.0)
+    }
+
+    /// True if any of `samples + 1` evenly spaced points from `a` to `b` (both ends
+    /// included) is forbidden: [`is_forbidden`](Self::is_forbidden) of each point
+    /// `a + k / samples * (b - a)`, `k = 0..=samples`, with one R-tree query for the whole
+    /// segment rather than one per point.
+    ///
+    /// ```
+    /// # use vitro_site::map::{ForbiddenZones, MapConfig, TownMap, ZoneConfig};
+    /// # let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    /// # let town = TownMap::load(format!("{root}/data/maps/kotka.osm.pbf"), &MapConfig::default()).unwrap();
+    /// let zones = ForbiddenZones::new(&town, &ZoneConfig::default());
+    /// let (a, b) = ([-400.0, -50.0], [400.0, 80.0]);
+    /// let one_by_one = (0..=64).any(|k| {
+    ///     let t = k as f64 / 64.0;
+    ///     zones.is_forbidden([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
+    /// });
+    /// assert_eq!(zones.forbidden_along(a, b, 64), one_by_one);
+    /// ```
+    pub fn forbidden_along(&self, a: P2, b: P2, samples: usize) -> bool {
+        let samples = samples.max(1);
+        // The segment's box, padded so that rounding in a sample point cannot put it
+        // outside: every zone whose box holds a sample is a candidate.
+        let pad = 1e-6 * (1.0 + a[0].abs().max(a[1].abs()).max(b[0].abs()).max(b[1].abs()));
+        let env = AABB::from_corners(
+            [a[0].min(b[0]) - pad, a[1].min(b[1]) - pad],
+            [a[0].max(b[0]) + pad, a[1].max(b[1]) + pad],
+        );
+        let near: Vec<(&Rectangle<P2>, &Zone)> = (self.tree)
+            .locate_in_envelope_intersecting(env)
+            .map(|g| (g.geom(), &self.zones[g.data]))
+            .collect();
+        if near.is_empty() {
+            return false;
+        }
+        (0..=samples).any(|k| {
+            let t = k as f64 / samples as f64;
+            let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+            let at = AABB::from_point(p);
+            (near.iter()).any(|(r, z)| r.envelope().intersects(&at) && z.forbids(p, 0.0))
+        })
     }
 
     /// The zones `p` lies in (or within the buffer of), in index order.
@@ -391,5 +432,42 @@ mod tests {
                 dist(p, q)
             );
         }
+    }
+
+    #[test]
+    fn along_a_segment_is_each_sample_point() {
+        // A grid of buffered squares and segments in every direction, some grazing a
+        // corner between two samples: the one-query answer is the point-by-point one.
+        let polys = (0..5)
+            .flat_map(|i| (0..5).map(move |j| square(30.0 * i as f64, 30.0 * j as f64, 12.0)))
+            .collect();
+        let z = zones(polys, 1.5);
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 170.0 - 20.0
+        };
+        let (mut hit, mut miss) = (0, 0);
+        for _ in 0..2000 {
+            let (a, b) = ([next(), next()], [next(), next()]);
+            let n = (dist(a, b) / 3.0).ceil().max(1.0) as usize;
+            let each = (0..=n).any(|k| {
+                let t = k as f64 / n as f64;
+                z.is_forbidden([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
+            });
+            assert_eq!(
+                z.forbidden_along(a, b, n),
+                each,
+                "{a:?} -> {b:?}, {n} samples"
+            );
+            if each { hit += 1 } else { miss += 1 }
+        }
+        // Both answers occur often enough for the comparison to mean something.
+        assert!(hit > 200 && miss > 200, "{hit} forbidden, {miss} free");
+        // Short segments that fit between zones, and a point-like one.
+        assert!(!z.forbidden_along([20.0, 20.0], [25.0, 25.0], 4));
+        assert!(z.forbidden_along([5.0, 5.0], [5.0, 5.0], 1));
     }
 }

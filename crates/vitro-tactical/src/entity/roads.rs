@@ -55,14 +55,7 @@ impl FreeGraph {
             .map(|s| {
                 s.points.windows(2).any(|w| {
                     let n = (dist(w[0], w[1]) / ZONE_PROBE).ceil().max(1.0) as usize;
-                    (0..=n).any(|k| {
-                        let t = k as f64 / n as f64;
-                        let p = [
-                            w[0][0] + t * (w[1][0] - w[0][0]),
-                            w[0][1] + t * (w[1][1] - w[0][1]),
-                        ];
-                        site.zones.is_forbidden(p)
-                    })
+                    site.zones.forbidden_along(w[0], w[1], n)
                 })
             })
             .collect();
