@@ -3,15 +3,16 @@
 
 use crate::{guarded, py_error};
 use pyo3::prelude::*;
-use std::path::PathBuf;
+use std::cell::RefCell;
+use std::path::{Path, PathBuf};
 use vitro::entity::EntityId;
 use vitro::time::{SimDuration, SimTime};
 use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::external::{Command, SharedDesk, lock, target_points};
+use vitro_evac::scenario::{EnvSpec, Validated};
 use vitro_mission::{BuildOptions, Mission as _, RegistryError, Run};
 use vitro_tactical::condition::{Role, Status};
-use vitro_evac::scenario::EnvSpec;
 use vitro_tactical::world::Side;
 use vitro_tools::ToolError;
 
@@ -40,6 +41,36 @@ fn side_code(s: Side) -> i64 {
     }
 }
 
+/// The scenario last validated in this thread: its path, text and fidelity preset, and
+/// what validating it gave (the site, and the street graphs once a run was built on it).
+type Kept = (PathBuf, String, Option<String>, Validated);
+
+thread_local! {
+    static LAST: RefCell<Option<Kept>> = const { RefCell::new(None) };
+}
+
+/// The scenario at `path` (its `text`) validated at the `fidelity` preset; a clone of the
+/// last one when the path, the text and the preset are the same (a new episode of the same
+/// task: the site and its street graphs are built once, not on every reset).
+fn validated(path: &Path, text: &str, fidelity: Option<&str>) -> Result<Validated, ToolError> {
+    let same = |k: &Kept| k.0 == path && k.1 == text && k.2.as_deref() == fidelity;
+    if let Some(v) = LAST.with_borrow(|k| k.as_ref().filter(|k| same(k)).map(|k| k.3.clone())) {
+        return Ok(v);
+    }
+    let v = vitro_evac::validated(path, text, fidelity)
+        .map_err(|e| vitro_tools::scenario_error(path, RegistryError::Mission(e)))?;
+    // Built now, so that every clone shares them.
+    v.roads();
+    let kept = (
+        path.to_path_buf(),
+        text.to_string(),
+        fidelity.map(str::to_string),
+        v.clone(),
+    );
+    LAST.with_borrow_mut(|k| *k = Some(kept));
+    Ok(v)
+}
+
 /// Builds the run: the scenario checked as `vitro run` checks it (same messages), then the
 /// mission with `units` (default: every controllable unit) driven from outside.
 fn build(
@@ -57,8 +88,7 @@ fn build(
             mission.kind()
         )));
     }
-    let v = vitro_evac::validated(&path, &text, options.fidelity.as_deref())
-        .map_err(|e| vitro_tools::scenario_error(&path, RegistryError::Mission(e)))?;
+    let v = validated(&path, &text, options.fidelity.as_deref())?;
     let env = v.loaded.file.env.clone();
     let can = Mission::controllable(&v);
     let units = units.unwrap_or_else(|| can.clone());

@@ -35,7 +35,7 @@ use vitro_tactical::arena::{Arena, Ev};
 use vitro_tactical::behaviour::formation::{FormationParams, LEADER_PROGRAM, Leader};
 use vitro_tactical::behaviour::route::VisitNodes;
 use vitro_tactical::condition::{Condition, Role, Status};
-use vitro_tactical::entity::roads::{FreeGraph, Roads};
+use vitro_tactical::entity::roads::FreeGraph;
 use vitro_tactical::model::Controller;
 use vitro_tactical::scenario::{EntityType, TieOrder};
 use vitro_tactical::types::{CtolKind, GroundKind, TroopKind, TypeBook, VtolKind};
@@ -185,8 +185,7 @@ pub(crate) fn build(
     external: Option<(&[String], &SharedDesk)>,
 ) -> Result<Built, MissionError> {
     let file = &v.loaded.file;
-    let site = Arc::new(v.site);
-    let roads = Arc::new(Roads::new(&site));
+    let (site, roads) = (v.site.clone(), v.roads());
     let members = roster(file);
     let find = |r: Role| members.iter().filter(move |m| m.role == r);
     let one = |r: Role| {

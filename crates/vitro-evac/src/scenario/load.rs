@@ -11,7 +11,9 @@ use super::{
     SensorsSpec, TieOrder,
 };
 use std::path::Path;
+use std::sync::{Arc, OnceLock};
 use vitro_site::site::Site;
+use vitro_tactical::entity::roads::Roads;
 use vitro_tactical::scenario::checker::resolve;
 use vitro_tactical::scenario::tables::{self, Layout, one};
 use vitro_tactical::scenario::{Diagnostic, Diagnostics, SourceMap};
@@ -40,14 +42,30 @@ pub const TOP_LEVEL_KEYS: [&str; 19] = [
 ];
 
 /// A scenario file read and checked against its site, with the site built.
-#[derive(Debug)]
+///
+/// A clone shares the site, the calibration and, once built, the free street graphs
+/// ([`roads`](Self::roads)): runs built from clones of one `Validated` (the episodes of a
+/// learning environment, say) build them once.
+#[derive(Clone, Debug)]
 pub struct Validated {
     /// The file.
     pub loaded: Loaded,
     /// The town on its terrain at the scenario's offset.
-    pub site: Site,
+    pub site: Arc<Site>,
     /// The calibration the scenario names, checked against its site and types.
-    pub calibration: Option<std::sync::Arc<vitro_tactical::calibrate::Calibration>>,
+    pub calibration: Option<Arc<vitro_tactical::calibrate::Calibration>>,
+    /// The free street graphs of `site`, built the first time they are asked for.
+    roads: OnceLock<Arc<Roads>>,
+}
+
+impl Validated {
+    /// The free street graphs of the site: built on the first call, then shared by this
+    /// value and every clone made after.
+    pub fn roads(&self) -> Arc<Roads> {
+        (self.roads)
+            .get_or_init(|| Arc::new(Roads::new(&self.site)))
+            .clone()
+    }
 }
 
 impl ScenarioFile {
@@ -99,7 +117,7 @@ impl ScenarioFile {
                     // (A missing file is reported by the file checks.)
                     let named = loaded.calibration.as_ref().is_some_and(|p| p.is_file());
                     let calibration = match named.then(|| loaded.calibration()).transpose() {
-                        Ok(c) => c.flatten().map(std::sync::Arc::new),
+                        Ok(c) => c.flatten().map(Arc::new),
                         Err(d) => {
                             problems.extend(d.0);
                             None
@@ -108,8 +126,9 @@ impl ScenarioFile {
                     if problems.is_empty() {
                         return Ok(Validated {
                             loaded,
-                            site,
+                            site: Arc::new(site),
                             calibration,
+                            roads: OnceLock::new(),
                         });
                     }
                 }
