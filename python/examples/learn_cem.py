@@ -130,6 +130,8 @@ def main():
     p.add_argument("--train-seeds", type=int, default=3)
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--weights", nargs=GROUPS * FEATURES, type=float, default=None,
+                   help="play these weights (as printed after training) instead of training")
     p.add_argument("--transfer", nargs="*", default=[], metavar="LEVEL:EPISODES",
                    help="evaluate the learned weights at other levels too, e.g. interpolated:20")
     args = p.parse_args()
@@ -137,8 +139,11 @@ def main():
     train = [10_000 + i for i in range(args.train_seeds)]
     evaluation = [1000 + i for i in range(args.episodes)]
     spawn = mp.get_context("spawn")
-    with spawn.Pool(args.workers, _init, (args.scenario, args.fidelity)) as pool:
-        weights = cem(pool, args.iterations, args.population, args.elite, train, rng)
+    if args.weights:
+        weights = np.asarray(args.weights, dtype=np.float64)
+    else:
+        with spawn.Pool(args.workers, _init, (args.scenario, args.fidelity)) as pool:
+            weights = cem(pool, args.iterations, args.population, args.elite, train, rng)
     print("weights:", np.round(weights, 2).tolist())
     levels = [(args.fidelity, args.episodes)] + [
         (level, int(n)) for level, n in (x.split(":") for x in args.transfer)
