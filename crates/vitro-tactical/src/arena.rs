@@ -107,11 +107,11 @@ pub struct Steps {
 }
 
 /// The bounded effort of a rigid-body vehicle's recovery: what it does when its track lies
-/// behind it or it stops making progress (backs off, turns round in several moves, tries
-/// again).
+/// behind it with the way ahead blocked, or it stops making progress (backs off, turns round
+/// in several moves, tries again); with room ahead it swings round forwards instead.
 #[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Recovery {
-    /// Time without progress along the trip that starts a recovery.
+    /// Time without progress along the trip (or turning towards it) that starts a recovery.
     pub stuck_after: SimDuration,
     /// Recoveries one trip may start; the next need gives the trip up
     /// ([`StallReason::RecoverySpent`]). 0 turns recovery off.

@@ -1,6 +1,9 @@
 //! Bodies that make their way where a driver would: a vehicle started facing into a dead end
-//! arrives, at the interpolated and the physical level (at the physical one by backing and
-//! turning in several moves; with recovery turned off it gives the trip up instead).
+//! arrives, at the interpolated and the physical level (at the physical one by swinging
+//! round forwards where there is room, and by backing and turning in several moves where
+//! there is not; with recovery turned off it gives the trip up there instead); a truck
+//! turned off its way with room to swing round makes no manoeuvre; two vehicles nose to nose
+//! on one street both arrive; a UGV parked on the truck's route holds it up briefly.
 
 mod common;
 
@@ -59,28 +62,28 @@ fn drive(level: Level, trips: &[Trip], recovery: Recovery, limit: u64) -> Vec<Vi
     brains(&s)
 }
 
-/// A dead end of the main street graph whose one street runs at least 30 m before the next
-/// junction, with that junction; the first in node order.
-fn dead_end() -> (NodeId, NodeId) {
+/// The first four dead ends of the main street graph (in node order) whose one street runs
+/// at least 30 m before the next junction, each with that junction.
+fn dead_ends() -> Vec<(NodeId, NodeId)> {
     let (_, roads) = town();
     let g = &roads.drive;
     (0..g.graph.node_count() as u32)
         .map(NodeId)
         .filter(|&n| g.main[n.0 as usize] && g.degree(n) == 1)
-        .find_map(|n| {
+        .filter_map(|n| {
             let m = g.graph.neighbors(n).next()?.0;
             let (a, b) = (g.graph.node(n)?.pos, g.graph.node(m)?.pos);
             (dist(a, b) >= 30.0).then_some((n, m))
         })
-        .expect("the town has a dead end")
+        .take(4)
+        .collect()
 }
 
-/// The car at the end of a dead end, facing on into it (away from the only way out), sent
+/// A vehicle at the end of a dead end, facing on into it (away from the only way out), sent
 /// to the town's centre.
-fn into_the_dead_end(kind: GroundKind) -> Trip {
+fn into_the_dead_end(kind: GroundKind, (end, junction): (NodeId, NodeId)) -> Trip {
     let (site, roads) = town();
     let g = &roads.drive;
-    let (end, junction) = dead_end();
     let (a, b) = (
         g.graph.node(junction).unwrap().pos,
         g.graph.node(end).unwrap().pos,
@@ -97,38 +100,51 @@ fn into_the_dead_end(kind: GroundKind) -> Trip {
     }
 }
 
+/// Recovery turned off.
+fn off() -> Recovery {
+    Recovery {
+        max_attempts: 0,
+        ..Recovery::default()
+    }
+}
+
 #[test]
 fn a_vehicle_started_facing_into_a_dead_end_arrives() {
+    let ends = dead_ends();
+    assert_eq!(ends.len(), 4);
     for kind in [GroundKind::Car, GroundKind::Mdars] {
-        let trip = into_the_dead_end(kind);
-        for level in [Level::Interpolated, Level::Physical] {
-            let v = &drive(level, std::slice::from_ref(&trip), Recovery::default(), 900)[0];
-            assert!(
-                v.finished() && v.error.is_none(),
-                "{kind:?} at the {} level: {:?}",
-                level.name(),
-                v.error
-            );
+        for &end in &ends {
+            let trip = into_the_dead_end(kind, end);
+            for level in [Level::Interpolated, Level::Physical] {
+                let v = &drive(level, std::slice::from_ref(&trip), Recovery::default(), 900)[0];
+                assert!(
+                    v.finished() && v.error.is_none(),
+                    "{kind:?} in the dead end at {:?}, {} level: {:?}",
+                    end.0,
+                    level.name(),
+                    v.error
+                );
+            }
         }
     }
 }
 
 #[test]
-fn without_recovery_the_dead_end_is_a_stall_with_its_reason() {
-    let trip = into_the_dead_end(GroundKind::Car);
-    let off = Recovery {
-        max_attempts: 0,
-        ..Recovery::default()
-    };
-    let v = &drive(Level::Physical, std::slice::from_ref(&trip), off, 900)[0];
-    assert!(
-        matches!(
-            v.error,
-            Some(MoveError::Stalled(_, n, StallReason::NoProgress)) if n == trip.to
-        ),
-        "{:?}",
-        v.error
-    );
+fn without_recovery_a_dead_end_too_narrow_to_swing_round_in_is_a_stall_with_its_reason() {
+    // Where the dead end leaves room, the car swings round forwards as it would anyway; in
+    // at least one of the four it cannot, and without recovery it gives the trip up.
+    let stalls = dead_ends()
+        .into_iter()
+        .map(|end| into_the_dead_end(GroundKind::Car, end))
+        .filter(|trip| {
+            let v = &drive(Level::Physical, std::slice::from_ref(trip), off(), 900)[0];
+            matches!(
+                v.error,
+                Some(MoveError::Stalled(_, n, StallReason::NoProgress)) if n == trip.to
+            )
+        })
+        .count();
+    assert!(stalls >= 1, "no dead end needed a recovery");
 }
 
 /// The standard trip across town (the check's) and the nodes of its path.
@@ -244,5 +260,28 @@ fn a_ugv_parked_on_the_trucks_route_holds_it_up_less_than_a_minute() {
             level.name(),
             with.error
         );
+    }
+}
+
+#[test]
+fn a_truck_turned_off_its_way_with_room_to_swing_round_makes_no_manoeuvre() {
+    // Started at a right angle to its way, either side, on the standard trip's first street:
+    // the truck swings wide onto it, and arrives when it would with its recovery turned off
+    // (it backed or turned in several moves on none of the trips).
+    let path = across_town();
+    let h = heading(path[0], path[1]);
+    for turn in [std::f64::consts::FRAC_PI_2, -std::f64::consts::FRAC_PI_2] {
+        let trip = Trip {
+            kind: GroundKind::CargoTruck,
+            from: path[0],
+            heading: h + turn,
+            to: *path.last().unwrap(),
+        };
+        let t = |recovery| {
+            let v = &drive(Level::Physical, std::slice::from_ref(&trip), recovery, 1800)[0];
+            assert!(v.finished() && v.error.is_none(), "{turn}: {:?}", v.error);
+            v.log.last().map(|l| l.0)
+        };
+        assert_eq!(t(Recovery::default()), t(off()), "start turn {turn} rad");
     }
 }

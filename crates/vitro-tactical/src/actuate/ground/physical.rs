@@ -7,12 +7,14 @@
 //! Under way, the driver keeps to traffic rules read off the other vehicles on its track
 //! ahead: it keeps a gap to one in its lane, keeps right of an oncoming one (both do, so they
 //! pass on a street wide enough) and passes one at rest on the side that needs the smaller
-//! swerve; held up behind a moving vehicle it is waiting, not stuck. When its track lies
-//! behind it (started facing into a dead end) or it stops making progress, it recovers as a
-//! driver would: turns round at full lock, forwards where there is room and backwards
-//! where there is not, changing direction when the room runs out (a K-turn), then drives
-//! on, within the arena's bounded [`Recovery`](crate::arena::Recovery); a trip that needs
-//! more is given up with its [`StallReason`].
+//! swerve; held up behind a moving vehicle it is waiting, not stuck. Started turned off its
+//! way with room ahead, it swings round forwards (pure pursuit at full lock), and turning
+//! towards its track counts as progress. Only when that fails (its track behind it and the
+//! way ahead blocked, as facing into a dead end, or no progress along its track or towards
+//! it) does it recover as a driver would: backs at full lock, then turns forwards, changing
+//! direction when the room runs out (a K-turn), then drives on, within the arena's bounded
+//! [`Recovery`](crate::arena::Recovery); a trip that needs more is given up with its
+//! [`StallReason`].
 
 pub use super::wheels::SteerAndAccelerate;
 use super::wheels::{STOPPED, project, speed_controls};
@@ -31,6 +33,8 @@ const CREEP: f64 = 1.0;
 const STOP_WITHIN: f64 = 1.5;
 /// Horizontal speed below which an idle vehicle is parked, m/s.
 const PARK_BELOW: f64 = 0.05;
+/// Turn towards the track ahead that counts as progress, radians (6°).
+const TURNED: f64 = 0.1;
 /// MoveInDirection at the physical level: steers for the point by pure pursuit (the arc
 /// through it, `δ = atan(2 L sin α / d)`) and controls the speed, through
 /// [`SteerAndAccelerate`]. A negative speed backs the vehicle towards the point, rear first
@@ -101,6 +105,7 @@ impl Actuator<Arena, Ev> for GoToNode {
         w.chassis.update(me, |r| {
             r.parked = false;
             r.progress = (0.0, now);
+            r.facing = std::f64::consts::PI;
             r.manoeuvre = None;
             r.recoveries = 0;
         });
@@ -132,8 +137,21 @@ fn drive(w: &mut Arena, id: EntityId, fx: &mut Effects<'_, Ev>) {
     let v = row.speed;
     let now = fx.now();
     let (best, mut since) = row.progress;
+    // The bearing of the track ahead: a vehicle swinging round towards it (started turned
+    // off its way) is making its way, though not yet along the track.
+    let ahead = tr.point_at(s + w.types.ground(row.kind).turning_radius.max(6.0));
+    let facing = wrap_angle(libm::atan2(ahead[1] - g[1], ahead[0] - g[0]) - row.heading()).abs();
     if s > best + STALL_PROGRESS_M {
-        w.chassis.update(id, |r| r.progress = (s, now));
+        w.chassis.update(id, |r| {
+            r.progress = (s, now);
+            r.facing = facing;
+        });
+        since = now;
+    } else if facing < row.facing - TURNED {
+        w.chassis.update(id, |r| {
+            r.progress.1 = now;
+            r.facing = facing;
+        });
         since = now;
     } else if left > STOP_WITHIN && now.saturating_since(since) >= w.steps.stall_after {
         give_up(w, id, f.goal, s, node, StallReason::NoProgress, fx);

@@ -1,10 +1,13 @@
-//! What a rigid-body vehicle's driver does when the way on is not straight ahead: it
-//! recovers when its track lies behind it (started facing into a dead end, or the route
-//! leaves backwards) or it stops making progress (blocked). It turns round at full lock,
-//! forwards where there is room ahead and backwards otherwise, and changes direction when
-//! the room behind or ahead runs out (a K-turn where the street is narrow; backing off where
-//! something blocks the way), until it faces its track; then it drives on. The effort is
-//! bounded by the arena's [`Recovery`](crate::arena::Recovery): moves per recovery,
+//! What a rigid-body vehicle's driver does when the way on is not straight ahead. Turned off
+//! its track with room ahead (started across or facing away from it, or the route leaves
+//! backwards), it swings round forwards on its ordinary steering, as a driver who can would:
+//! that swing is progress as long as it turns the vehicle towards its track. It recovers
+//! only when the swing fails: its track lies behind it and the way ahead is blocked (started
+//! facing into a dead end), or it stops making progress, neither along its track nor towards
+//! it (blocked, or circling). It backs at full lock, then turns forwards, changing direction
+//! when the room behind or ahead runs out (a K-turn where the street is narrow; backing off
+//! where something blocks the way), until it faces its track; then it drives on. The effort
+//! is bounded by the arena's [`Recovery`](crate::arena::Recovery): moves per recovery,
 //! recoveries per trip; a trip that needs more is given up
 //! ([`StallReason::RecoverySpent`](crate::arena::StallReason::RecoverySpent)).
 
@@ -27,6 +30,9 @@ const FULL_LOCK_FROM: f64 = 0.5;
 const MANOEUVRE_SPEED: f64 = 2.0;
 /// Room a manoeuvring vehicle keeps free ahead of or behind it, metres.
 const ROOM: f64 = 1.0;
+/// Room ahead a vehicle swinging round forwards onto its track keeps; with less, and its
+/// track behind it, it backs instead, metres.
+const SWING_ROOM: f64 = 3.0;
 /// How far a manoeuvre looks for room, metres.
 const ROOM_RANGE: f64 = 8.0;
 /// A move lasting this long at under 0.1 m/s is blocked, seconds.
@@ -74,17 +80,21 @@ pub(super) fn step(
             if !(behind || stuck) {
                 return Outcome::Driving;
             }
-            if row.recoveries >= rec.max_attempts {
-                return Outcome::Spent;
-            }
-            // Turn forwards where there is room to, else back first.
             let ahead = w
                 .physics
                 .as_ref()
                 .and_then(|p| p.clearance(id, false, ROOM_RANGE, false))
                 .unwrap_or(0.0);
+            // With its track behind it but room ahead, the driver swings round forwards
+            // (the way on's own steering does that); only a blocked swing needs a manoeuvre.
+            if !stuck && ahead >= SWING_ROOM {
+                return Outcome::Driving;
+            }
+            if row.recoveries >= rec.max_attempts {
+                return Outcome::Spent;
+            }
             let m = Manoeuvre {
-                reverse: stuck || ahead < ROOM_RANGE,
+                reverse: true,
                 moves: 0,
                 from: [g[0], g[1]],
                 since: now,

@@ -83,6 +83,9 @@ pub struct Chassis {
     /// The farthest distance along the current trip reached, metres, and when (the
     /// physical GoToNode recovers, then gives the trip up, when it stops growing).
     pub progress: (f64, vitro::time::SimTime),
+    /// The smallest bearing of its track ahead since the last progress, radians: turning
+    /// towards the track counts as progress too (a vehicle swinging round onto its way).
+    pub facing: f64,
     /// The recovery manoeuvre under way (backing out, turning in several moves), if any.
     pub manoeuvre: Option<Manoeuvre>,
     /// Recoveries started on the current trip.
@@ -271,6 +274,7 @@ impl Physics {
             integral: 0.0,
             parked: false,
             progress: (0.0, vitro::time::SimTime::ZERO),
+            facing: std::f64::consts::PI,
             manoeuvre: None,
             recoveries: 0,
         };
