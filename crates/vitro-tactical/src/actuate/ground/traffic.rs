@@ -9,6 +9,18 @@
 //!
 //! A vehicle held up behind one that is moving is waiting, not stuck: its recovery does not
 //! start.
+//!
+//! Sources: the gap is the braking part of Gipps' car-following model (P. G. Gipps, "A
+//! behavioural car-following model for computer simulation", *Transportation Research Part
+//! B* 15(2), 1981, pp. 105–111), simplified to no reaction time and a vehicle ahead taken to
+//! stop at once: the follower drives no faster than it can stop from short of it. Keeping
+//! right of oncoming traffic is the rule of the road of the Vienna Convention on Road Traffic
+//! (1968), Articles 10 and 12; passing a vehicle at rest on whichever side needs the smaller
+//! swerve is this driver's own rule (the convention overtakes on the left). The
+//! reciprocal methods for many agents (ORCA: J. van den Berg, S. J. Guy, M. Lin and
+//! D. Manocha, "Reciprocal n-body collision avoidance", *Robotics Research*, Springer Tracts
+//! in Advanced Robotics 70, 2011) assume agents that can take any velocity near their own;
+//! a car-like body on a street cannot, which is why the rules here follow the track.
 
 use super::wheels::project;
 use crate::arena::Arena;
