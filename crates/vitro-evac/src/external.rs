@@ -308,7 +308,7 @@ impl Controller<Evac> for External {
                 k.arrived = true;
                 k.under_way = false;
             }
-            Input::Event(Ev::Stalled(_)) => {
+            Input::Event(Ev::Stalled(..)) => {
                 let me = cx.me();
                 let mut desk = lock(&self.desk);
                 desk.units.entry(me).or_default().knowledge.under_way = false;

@@ -71,11 +71,12 @@ pub enum Ev {
     Start,
     /// To an agent: its body reached the goal node of its last GoToNode / WalkToNode.
     Arrived(NodeId),
-    /// To an agent: its vehicle made no progress towards the goal node of its last
-    /// GoToNode for [`Steps::stall_after`] (stuck against a wall, on a slope, or unable to
-    /// turn): the trip is given up and the body stops where it is; a new GoToNode plans
-    /// again from there.
-    Stalled(NodeId),
+    /// To an agent: its vehicle could not make its way to the goal node of its last
+    /// GoToNode, after the bounded recovery of [`Steps::recovery`] (backing out, turning in
+    /// several moves) or [`Steps::stall_after`] without progress, for the reason given: the
+    /// trip is given up and the body stops where it is; a new GoToNode plans again from
+    /// there.
+    Stalled(NodeId, StallReason),
     /// To an agent: its autopilot reached waypoint `i` of its current command.
     Waypoint(u32),
     /// To the environment: a node-level body reaches the next node of its trip.
@@ -98,8 +99,60 @@ pub struct Steps {
     /// Sub-steps of the helicopter dynamics (and its inner control loops) per flight step.
     pub rotor_substeps: u32,
     /// A rigid-body vehicle that gains less than [`STALL_PROGRESS_M`] along its trip for
-    /// this long gives the trip up ([`Ev::Stalled`]).
+    /// this long gives the trip up ([`Ev::Stalled`]), whatever its recovery is doing.
     pub stall_after: SimDuration,
+    /// How hard a rigid-body vehicle tries to free itself before it gives a trip up.
+    #[serde(default)]
+    pub recovery: Recovery,
+}
+
+/// The bounded effort of a rigid-body vehicle's recovery: what it does when its track lies
+/// behind it with the way ahead blocked, or it stops making progress (backs off, turns round
+/// in several moves, tries again); with room ahead it swings round forwards instead.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Recovery {
+    /// Time without progress along the trip (or turning towards it) that starts a recovery.
+    pub stuck_after: SimDuration,
+    /// Recoveries one trip may start; the next need gives the trip up
+    /// ([`StallReason::RecoverySpent`]). 0 turns recovery off.
+    pub max_attempts: u32,
+    /// Moves (backwards or forwards) one recovery makes at most before it counts as failed.
+    pub max_moves: u32,
+    /// The longest one move lasts.
+    pub move_time: SimDuration,
+}
+
+impl Default for Recovery {
+    /// A recovery after 8 s without progress; 4 per trip, of at most 9 moves of at most 8 s.
+    fn default() -> Self {
+        Recovery {
+            stuck_after: SimDuration::from_secs(8),
+            max_attempts: 4,
+            max_moves: 9,
+            move_time: SimDuration::from_secs(8),
+        }
+    }
+}
+
+/// Why a vehicle gave its trip up ([`Ev::Stalled`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum StallReason {
+    /// No progress along the trip for [`Steps::stall_after`].
+    NoProgress,
+    /// It needed another recovery after spending all of [`Recovery::max_attempts`] (the
+    /// last one's moves did not free it).
+    RecoverySpent,
+}
+
+impl std::fmt::Display for StallReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            StallReason::NoProgress => "no progress along the trip for the stall time",
+            StallReason::RecoverySpent => {
+                "still stuck after every recovery the trip allows (backing out, turning round)"
+            }
+        })
+    }
 }
 
 /// Progress along a trip that counts as moving on, metres.
@@ -107,14 +160,16 @@ pub const STALL_PROGRESS_M: f64 = 1.0;
 
 impl Default for Steps {
     /// 100 ms kinematic, 20 ms physics, 50 ms flight with 5 rotor sub-steps (10 ms); a
-    /// vehicle stalls after 30 s without progress.
+    /// vehicle stalls after 120 s without progress or when its recoveries are spent
+    /// ([`Recovery::default`]).
     fn default() -> Self {
         Steps {
             kinematic: SimDuration::from_millis(100),
             physics: SimDuration::from_millis(20),
             flight: SimDuration::from_millis(50),
             rotor_substeps: 5,
-            stall_after: SimDuration::from_secs(30),
+            stall_after: SimDuration::from_secs(120),
+            recovery: Recovery::default(),
         }
     }
 }

@@ -152,6 +152,6 @@ pub fn run_env_event(env: &mut Arena, event: &Ev, fx: &mut Effects<'_, Ev>) {
         Ev::Tick(Clock::Physics) => actuate::tick_physics(env, fx),
         Ev::Tick(Clock::Flight) => autopilot::tick_flight(env, fx),
         Ev::Maneuver(who) => autopilot::on_maneuver(env, *who, fx),
-        Ev::Start | Ev::Arrived(_) | Ev::Stalled(_) | Ev::Waypoint(_) => {}
+        Ev::Start | Ev::Arrived(_) | Ev::Stalled(..) | Ev::Waypoint(_) => {}
     }
 }

@@ -1,12 +1,14 @@
-//! The physical level fails honestly: a rigid-body car that cannot make its way (here: the
-//! route to its third checkpoint starts behind it, and it has a steering lock) gives the
-//! trip up after the arena's stall time and tells its controller, instead of creeping for
-//! ever towards an arrival that cannot come. (The guide's tutorial, part 2, drives this tour.)
+//! The physical level turns round as a driver would, and fails honestly when it may not: the
+//! route to the rigid-body car's third checkpoint starts behind it and it has a steering
+//! lock; it backs and turns in several moves and gets there. With its recovery turned off it
+//! gives the trip up after the arena's stall time and tells its controller why, instead of
+//! creeping for ever towards an arrival that cannot come. (The guide's tutorial, part 2,
+//! drives this tour.)
 
 use vitro::prelude::*;
 use vitro_tactical::actuate::MoveError;
 use vitro_tactical::actuate::ground::{discrete, physical};
-use vitro_tactical::arena::{Arena, Ev};
+use vitro_tactical::arena::{Arena, Ev, Recovery, StallReason};
 use vitro_tactical::behaviour::route::VisitNodes;
 use vitro_tactical::check::Setup;
 use vitro_tactical::entity::Level;
@@ -15,7 +17,7 @@ use vitro_tactical::model::Tactical;
 use vitro_tactical::types::GroundKind;
 
 /// Drives the tour at `level` until the car is done or has an error; the controller.
-fn tour<A>(setup: &Setup, level: Level, goto: A) -> VisitNodes<A>
+fn tour<A>(setup: &Setup, level: Level, goto: A, recovery: Recovery) -> VisitNodes<A>
 where
     A: Actuator<Arena, Ev, Command = NodeId, Error = MoveError> + Clone + 'static,
 {
@@ -33,6 +35,7 @@ where
         .unwrap()
         .heading_at(0.0);
     let mut sim = Simulation::<Tactical>::new(setup.arena(), setup.seed);
+    sim.env_mut().steps.recovery = recovery;
     let car = sim
         .add_agent("car", Box::new(VisitNodes::new(checkpoints, goto)))
         .unwrap();
@@ -55,18 +58,50 @@ where
 }
 
 #[test]
-fn a_car_that_cannot_turn_gives_its_trip_up_and_says_so() {
+fn a_car_that_cannot_turn_on_the_spot_turns_in_several_moves() {
     let setup = Setup::default_town().unwrap();
     // The discrete car turns on the spot at a junction: all three checkpoints.
-    let d = tour(&setup, Level::Discrete, discrete::GoToNode);
+    let d = tour(
+        &setup,
+        Level::Discrete,
+        discrete::GoToNode,
+        Recovery::default(),
+    );
     assert!(d.finished() && d.error.is_none(), "{:?}", d.error);
-    // The rigid-body car reaches the first two, then stalls on the third, and is told so
-    // within the stall time (30 s) of its last progress, long before the 600 s limit.
-    let p = tour(&setup, Level::Physical, physical::GoToNode);
+    // The rigid-body car backs and turns round on the way to the third: all three too.
+    let p = tour(
+        &setup,
+        Level::Physical,
+        physical::GoToNode,
+        Recovery::default(),
+    );
+    assert!(p.finished() && p.error.is_none(), "{:?}", p.error);
+    assert_eq!(
+        p.log.iter().map(|l| l.1).collect::<Vec<_>>(),
+        d.log.iter().map(|l| l.1).collect::<Vec<_>>()
+    );
+}
+
+#[test]
+fn without_recovery_a_car_that_cannot_turn_gives_its_trip_up_and_says_why() {
+    let setup = Setup::default_town().unwrap();
+    let d = tour(
+        &setup,
+        Level::Discrete,
+        discrete::GoToNode,
+        Recovery::default(),
+    );
+    // No recovery: it reaches the first two checkpoints, then stalls on the third, and is
+    // told so (no progress for the stall time), long before the 600 s limit.
+    let off = Recovery {
+        max_attempts: 0,
+        ..Recovery::default()
+    };
+    let p = tour(&setup, Level::Physical, physical::GoToNode, off);
     assert_eq!(p.log.len(), 2, "{:?}", p.log);
     let third = d.log[2].1;
     assert!(
-        matches!(p.error, Some(MoveError::Stalled(_, n)) if n == third),
+        matches!(p.error, Some(MoveError::Stalled(_, n, StallReason::NoProgress)) if n == third),
         "{:?}",
         p.error
     );

@@ -20,7 +20,7 @@ use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
 use vitro_site::map::Mode;
 use vitro_tactical::actuate::MoveError;
-use vitro_tactical::arena::Ev;
+use vitro_tactical::arena::{Ev, StallReason};
 use vitro_tactical::belief::Beacon;
 use vitro_tactical::condition::Status;
 use vitro_tactical::model::{Controller, Intention};
@@ -159,13 +159,13 @@ impl Commander {
 
     /// The truck gave up its trip to `goal`: tries the leg again after a pause, up to
     /// [`LEG_TRIES`] times; then it stays, and its intention says why.
-    fn on_stalled(&mut self, goal: NodeId, cx: &mut Context<'_, Evac>) {
+    fn on_stalled(&mut self, goal: NodeId, why: StallReason, cx: &mut Context<'_, Evac>) {
         self.stalls += 1;
         self.leg_stalls += 1;
         if self.leg_stalls < LEG_TRIES {
             cx.set_timer(SimDuration::from_secs(RETRY_S), RETRY);
         } else {
-            self.refused = Some(MoveError::Stalled(cx.me(), goal));
+            self.refused = Some(MoveError::Stalled(cx.me(), goal, why));
         }
     }
 
@@ -482,8 +482,8 @@ impl Controller<Evac> for Commander {
                 self.leg_stalls = 0;
                 self.on_arrived(cx);
             }
-            Input::Event(Ev::Stalled(n)) if self.legs().get(self.leg) == Some(n) => {
-                self.on_stalled(*n, cx);
+            Input::Event(Ev::Stalled(n, why)) if self.legs().get(self.leg) == Some(n) => {
+                self.on_stalled(*n, *why, cx);
             }
             Input::Timer(RETRY) => self.drive_leg(cx),
             Input::Timer(READY) if self.phase == Phase::Pickup => self.escort_back(cx),

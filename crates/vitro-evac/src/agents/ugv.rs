@@ -78,7 +78,7 @@ impl Controller<Evac> for Ugv {
             }
             Input::Event(Ev::Arrived(_)) | Input::Timer(PLAN) => self.next(cx),
             // Stuck on the way: a new goal later, planned from where it stands.
-            Input::Event(Ev::Stalled(_)) => {
+            Input::Event(Ev::Stalled(..)) => {
                 self.goal = None;
                 cx.set_timer(SimDuration::from_secs(10), PLAN);
             }

@@ -1,7 +1,7 @@
 //! Discrete trips: the track a body follows from node to goal (planned once per arena, then
 //! shared), the hop events along it, and the answer when it has arrived.
 
-use crate::arena::{Arena, Ev};
+use crate::arena::{Arena, Ev, StallReason};
 use crate::entity::Level;
 use crate::entity::discrete::{NodeKind, Trip};
 use crate::entity::roads::RouteError;
@@ -25,19 +25,22 @@ pub enum MoveError {
     /// No route.
     #[error(transparent)]
     Route(#[from] RouteError),
-    /// The body gave its trip to the node up: no progress for the arena's
-    /// [`stall_after`](crate::arena::Steps::stall_after) ([`Ev::Stalled`]).
-    #[error("entity {0:?} stalled on its way to node {1:?}")]
-    Stalled(EntityId, NodeId),
+    /// The body gave its trip to the node up, for the reason given ([`Ev::Stalled`]).
+    #[error("entity {0:?} stalled on its way to node {1:?}: {2}")]
+    Stalled(EntityId, NodeId, StallReason),
     /// The actuator was built for a level its family has not (e.g. a vehicle driven at the
     /// directed level).
     #[error("entity {0:?}: this actuator moves no body at the {level} level", level = .1.name())]
     NoSuchLevel(EntityId, Level),
 }
 
-/// Tells `who` it gave up its trip to `goal`, now (no progress: [`Ev::Stalled`]).
-pub(crate) fn stalled(who: EntityId, goal: NodeId, fx: &mut Effects<'_, Ev>) {
-    fx.schedule_in(SimDuration::ZERO, Target::Entity(who), Ev::Stalled(goal));
+/// Tells `who` it gave up its trip to `goal`, now, and why ([`Ev::Stalled`]).
+pub(crate) fn stalled(who: EntityId, goal: NodeId, why: StallReason, fx: &mut Effects<'_, Ev>) {
+    fx.schedule_in(
+        SimDuration::ZERO,
+        Target::Entity(who),
+        Ev::Stalled(goal, why),
+    );
 }
 
 /// Tells `who` it reached `goal`, now.

@@ -78,8 +78,8 @@ where
             Input::Event(Ev::Start) => {}
             Input::Event(Ev::Arrived(n)) => self.log.push((cx.now(), *n)),
             // The body gave the trip up: the controller stops and says why.
-            Input::Event(Ev::Stalled(n)) => {
-                self.error = Some(MoveError::Stalled(cx.me(), *n));
+            Input::Event(Ev::Stalled(n, why)) => {
+                self.error = Some(MoveError::Stalled(cx.me(), *n, *why));
                 return;
             }
             _ => return,

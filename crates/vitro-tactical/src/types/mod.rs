@@ -203,6 +203,8 @@ impl TypeBook {
                 ("wheel_radius", g.wheel_radius),
                 ("drag_area", g.drag_area),
                 ("rolling_resistance", g.rolling_resistance),
+                ("reverse_speed_kmh", g.reverse_speed_kmh),
+                ("reverse_force", g.reverse_force),
             ] {
                 pos(t.clone(), k, v)?;
             }

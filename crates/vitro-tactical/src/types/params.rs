@@ -43,6 +43,10 @@ pub struct GroundType {
     pub drag_area: f64,
     /// Rolling resistance coefficient.
     pub rolling_resistance: f64,
+    /// Fastest a driver backs the vehicle, km/h.
+    pub reverse_speed_kmh: f64,
+    /// Largest engine force at the wheels in reverse, N.
+    pub reverse_force: f64,
 }
 
 impl GroundType {
@@ -54,6 +58,26 @@ impl GroundType {
     /// Engine power, W.
     pub fn power(&self) -> f64 {
         self.power_kw * 1000.0
+    }
+
+    /// Fastest a driver backs the vehicle, m/s.
+    pub fn reverse_speed(&self) -> f64 {
+        self.reverse_speed_kmh / 3.6
+    }
+
+    /// The range of signed engine force at the wheels at speed `v`, N: backwards at most
+    /// `reverse_force` (and never more than the tyres' grip), forwards at most
+    /// [`drive_limit`](Self::drive_limit).
+    ///
+    /// ```
+    /// use vitro_tactical::types::{GroundKind, TypeBook};
+    /// let car = TypeBook::builtin().ground(GroundKind::Car);
+    /// let (back, ahead) = car.drive_range(0.0);
+    /// assert!(back < 0.0 && ahead > 0.0 && -back <= car.reverse_force);
+    /// ```
+    pub fn drive_range(&self, v: f64) -> (f64, f64) {
+        let ahead = self.drive_limit(v);
+        (-self.reverse_force.min(TRACTION * self.mass * G), ahead)
     }
 
     /// The largest tractive force at speed `v`, N: the tyres' grip when slow

@@ -4,6 +4,9 @@
 
 pub mod interpolated;
 pub mod physical;
+mod recover;
+mod traffic;
+mod wheels;
 
 /// The discrete level.
 pub mod discrete {

@@ -3,65 +3,43 @@
 //! MoveInDirection is a pure-pursuit steering law and a speed controller (proportional and
 //! integral, with feed-forward of rolling resistance, drag and grade) that drive
 //! SteerAndAccelerate, which sets the wheels of the rigid body.
+//!
+//! Under way, the driver keeps to traffic rules read off the other vehicles on its track
+//! ahead: it keeps a gap to one in its lane, keeps right of an oncoming one (both do, so they
+//! pass on a street wide enough) and passes one at rest on the side that needs the smaller
+//! swerve; held up behind a moving vehicle it is waiting, not stuck. Started turned off its
+//! way with room ahead, it swings round forwards (pure pursuit at full lock), and turning
+//! towards its track counts as progress. Only when that fails (its track behind it and the
+//! way ahead blocked, as facing into a dead end, or no progress along its track or towards
+//! it) does it recover as a driver would: backs at full lock, then turns forwards, changing
+//! direction when the room runs out (a K-turn), then drives on, within the arena's bounded
+//! [`Recovery`](crate::arena::Recovery); a trip that needs more is given up with its
+//! [`StallReason`].
 
+pub use super::wheels::SteerAndAccelerate;
+use super::wheels::{STOPPED, project, speed_controls};
+use super::{recover, traffic};
 use crate::actuate::{MoveError, arrived, plan, stalled};
-use crate::arena::{Arena, Clock, Ev, STALL_PROGRESS_M};
+use crate::arena::{Arena, Clock, Ev, STALL_PROGRESS_M, StallReason};
 use crate::entity::discrete::NodeKind;
 use crate::entity::ground::interpolated::MoveCmd;
-use crate::entity::ground::physical::Controls;
-use crate::entity::route::{Follow, Track, wrap_angle};
-use crate::types::{G, RHO_AIR};
+use crate::entity::route::{Follow, wrap_angle};
 use vitro::entity::EntityId;
 use vitro::env::{Actuator, Effects, NodeId};
-use vitro_site::geo::{P2, closest_on_segment, dist};
 
 /// Speed kept until the end of a trip is near, m/s.
 const CREEP: f64 = 1.0;
 /// Distance from the end of the track at which the vehicle brakes to a stop, metres.
 const STOP_WITHIN: f64 = 1.5;
-/// Speed below which a stopping vehicle counts as stopped, m/s.
-const STOPPED: f64 = 0.3;
 /// Horizontal speed below which an idle vehicle is parked, m/s.
 const PARK_BELOW: f64 = 0.05;
-/// Speed controller gains: proportional (1/s) and integral (1/s²).
-const KP: f64 = 1.2;
-const KI: f64 = 0.4;
-
-/// SteerAndAccelerate: sets the front-wheel angle and the engine and brake forces, limited
-/// to the type's steering lock, engine ([`GroundType::drive_limit`](crate::types::GroundType::drive_limit)) and brakes.
-#[derive(Copy, Clone, Debug, Default)]
-pub struct SteerAndAccelerate;
-
-impl Actuator<Arena, Ev> for SteerAndAccelerate {
-    type Command = Controls;
-    type Error = MoveError;
-    fn actuate(
-        &self,
-        w: &mut Arena,
-        me: EntityId,
-        c: Controls,
-        fx: &mut Effects<'_, Ev>,
-    ) -> Result<(), MoveError> {
-        let row = w.chassis.get(me).ok_or(MoveError::NoBody(me))?;
-        let ty = w.types.ground(row.kind);
-        let lock = ty.max_steer();
-        let c = Controls {
-            steer: c.steer.clamp(-lock, lock),
-            drive: c.drive.clamp(0.0, ty.drive_limit(row.speed)),
-            brake: c.brake.clamp(0.0, ty.mass * ty.max_decel),
-        };
-        if let Some(p) = w.physics.as_mut() {
-            p.set_controls(me, c);
-        }
-        w.chassis.update(me, |r| r.controls = c);
-        w.wake(Clock::Physics, fx);
-        Ok(())
-    }
-}
-
+/// Turn towards the track ahead that counts as progress, radians (6°).
+const TURNED: f64 = 0.1;
 /// MoveInDirection at the physical level: steers for the point by pure pursuit (the arc
 /// through it, `δ = atan(2 L sin α / d)`) and controls the speed, through
-/// [`SteerAndAccelerate`].
+/// [`SteerAndAccelerate`]. A negative speed backs the vehicle towards the point, rear first
+/// (pure pursuit of the rear: `δ = −atan(2 L sin α_r / d)` with `α_r` the point's bearing
+/// from the rear), at most the type's reverse speed.
 #[derive(Copy, Clone, Debug, Default)]
 pub struct MoveInDirection;
 
@@ -81,36 +59,14 @@ impl Actuator<Arena, Ev> for MoveInDirection {
         let p = row.ground_point();
         let (dx, dy) = (cmd.toward[0] - p[0], cmd.toward[1] - p[1]);
         let d = libm::sqrt(dx * dx + dy * dy).max(1.0);
-        let alpha = wrap_angle(libm::atan2(dy, dx) - row.heading());
-        let steer = libm::atan(2.0 * ty.wheelbase * libm::sin(alpha) / d);
-        let e = cmd.speed - row.speed;
-        let integral = (row.integral + e * dt).clamp(-3.0, 3.0);
-        let a = (KP * e + KI * integral).min(ty.max_accel);
-        let v = row.speed;
-        let resist = ty.rolling_resistance * ty.mass * G
-            + 0.5 * RHO_AIR * ty.drag_area * v * v
-            + ty.mass * G * libm::sin(row.attitude[1]);
-        let force = ty.mass * a + resist;
-        let hold = cmd.speed <= 0.0 && v.abs() < STOPPED;
-        let controls = if hold {
-            Controls {
-                steer,
-                drive: 0.0,
-                brake: ty.mass * ty.max_decel,
-            }
-        } else if force >= 0.0 {
-            Controls {
-                steer,
-                drive: force,
-                brake: 0.0,
-            }
+        let steer = if cmd.speed < 0.0 {
+            let alpha = wrap_angle(libm::atan2(dy, dx) - row.heading() - std::f64::consts::PI);
+            -libm::atan(2.0 * ty.wheelbase * libm::sin(alpha) / d)
         } else {
-            Controls {
-                steer,
-                drive: 0.0,
-                brake: -force,
-            }
+            let alpha = wrap_angle(libm::atan2(dy, dx) - row.heading());
+            libm::atan(2.0 * ty.wheelbase * libm::sin(alpha) / d)
         };
+        let (controls, integral) = speed_controls(&row, ty, cmd.speed, steer, dt);
         w.chassis.update(me, |r| r.integral = integral);
         SteerAndAccelerate.actuate(w, me, controls, fx)
     }
@@ -149,6 +105,9 @@ impl Actuator<Arena, Ev> for GoToNode {
         w.chassis.update(me, |r| {
             r.parked = false;
             r.progress = (0.0, now);
+            r.facing = std::f64::consts::PI;
+            r.manoeuvre = None;
+            r.recoveries = 0;
         });
         w.follow.insert(
             me,
@@ -164,33 +123,8 @@ impl Actuator<Arena, Ev> for GoToNode {
     }
 }
 
-/// The distance along `tr` of the point nearest to `p`, searched from `s0` back 5 m and
-/// ahead 40 m (the vehicle moves less than that in a step).
-fn project(tr: &Track, s0: f64, p: P2) -> f64 {
-    let n = tr.pts.len();
-    if n < 2 {
-        return 0.0;
-    }
-    let i0 = tr.index_at((s0 - 5.0).max(0.0));
-    let i1 = (tr.index_at(s0 + 40.0) + 1).min(n - 1);
-    let mut best = (f64::INFINITY, s0);
-    for i in i0..i1 {
-        let (a, b) = (
-            [tr.pts[i][0], tr.pts[i][1]],
-            [tr.pts[i + 1][0], tr.pts[i + 1][1]],
-        );
-        let q = closest_on_segment(p, a, b);
-        let d = dist(p, q);
-        if d < best.0 {
-            let run = dist(a, b);
-            let f = if run > 0.0 { dist(a, q) / run } else { 0.0 };
-            best = (d, tr.s[i] + f * (tr.s[i + 1] - tr.s[i]));
-        }
-    }
-    best.1
-}
-
-/// GoToNode's step for one vehicle: progress, arrival, and the command to MoveInDirection.
+/// GoToNode's step for one vehicle: progress, recovery, arrival, and the command to
+/// MoveInDirection.
 fn drive(w: &mut Arena, id: EntityId, fx: &mut Effects<'_, Ev>) {
     let (Some(f), Some(row)) = (w.follow.get(id).cloned(), w.chassis.get(id).cloned()) else {
         return;
@@ -202,23 +136,48 @@ fn drive(w: &mut Arena, id: EntityId, fx: &mut Effects<'_, Ev>) {
     let left = tr.length() - s;
     let v = row.speed;
     let now = fx.now();
-    let (best, since) = row.progress;
+    let (best, mut since) = row.progress;
+    // The bearing of the track ahead: a vehicle swinging round towards it (started turned
+    // off its way) is making its way, though not yet along the track.
+    let ahead = tr.point_at(s + w.types.ground(row.kind).turning_radius.max(6.0));
+    let facing = wrap_angle(libm::atan2(ahead[1] - g[1], ahead[0] - g[0]) - row.heading()).abs();
     if s > best + STALL_PROGRESS_M {
-        w.chassis.update(id, |r| r.progress = (s, now));
-    } else if left > STOP_WITHIN && now.saturating_since(since) >= w.steps.stall_after {
-        // No progress for too long: give the trip up, stop, and say so.
-        w.follow.remove(id);
         w.chassis.update(id, |r| {
-            r.node = node;
-            r.integral = 0.0;
+            r.progress = (s, now);
+            r.facing = facing;
         });
-        stalled(id, f.goal, fx);
-        let stop = MoveCmd {
-            toward: tr.point_at(s),
-            speed: 0.0,
-        };
-        let _ = MoveInDirection.actuate(w, id, stop, fx);
+        since = now;
+    } else if facing < row.facing - TURNED {
+        w.chassis.update(id, |r| {
+            r.progress.1 = now;
+            r.facing = facing;
+        });
+        since = now;
+    } else if left > STOP_WITHIN && now.saturating_since(since) >= w.steps.stall_after {
+        give_up(w, id, f.goal, s, node, StallReason::NoProgress, fx);
         return;
+    }
+    if w.follow.contains(id) {
+        w.follow.update(id, |f| f.s = s);
+        if node != row.node {
+            w.chassis.update(id, |r| r.node = node);
+        }
+    }
+    let give = traffic::give(w, id, tr, s, v);
+    if give.waiting {
+        // Held up behind a moving vehicle: waiting, not stuck.
+        w.chassis.update(id, |r| r.progress.1 = now);
+        since = now;
+    }
+    if left > STOP_WITHIN {
+        match recover::step(w, id, tr, s, since, fx) {
+            recover::Outcome::Driving => {}
+            recover::Outcome::Manoeuvring => return,
+            recover::Outcome::Spent => {
+                give_up(w, id, f.goal, s, node, StallReason::RecoverySpent, fx);
+                return;
+            }
+        }
     }
     let cmd = if left <= STOP_WITHIN {
         if v.abs() < STOPPED {
@@ -236,19 +195,42 @@ fn drive(w: &mut Arena, id: EntityId, fx: &mut Effects<'_, Ev>) {
     } else {
         let look = (2.0 + 0.6 * v.abs()).clamp(3.0, 12.0);
         let mut speed = tr.speed_at(s).min(tr.speed_at(s + v.abs() + 2.0));
-        speed = speed.max(CREEP);
-        MoveCmd {
-            toward: tr.point_at(s + look),
-            speed,
+        speed = speed.max(CREEP).min(give.speed);
+        let mut toward = tr.point_at(s + look);
+        if give.offset != 0.0 {
+            let h = tr.heading_at(s + look);
+            toward[0] -= give.offset * libm::sin(h);
+            toward[1] += give.offset * libm::cos(h);
         }
+        MoveCmd { toward, speed }
     };
-    if w.follow.contains(id) {
-        w.follow.update(id, |f| f.s = s);
-        if node != row.node {
-            w.chassis.update(id, |r| r.node = node);
-        }
-    }
     let _ = MoveInDirection.actuate(w, id, cmd, fx);
+}
+
+/// Gives the trip up: stops the vehicle where it is and tells its controller why.
+fn give_up(
+    w: &mut Arena,
+    id: EntityId,
+    goal: NodeId,
+    s: f64,
+    node: NodeId,
+    why: StallReason,
+    fx: &mut Effects<'_, Ev>,
+) {
+    let Some(tr) = w.follow.remove(id).map(|f| f.track) else {
+        return;
+    };
+    w.chassis.update(id, |r| {
+        r.node = node;
+        r.integral = 0.0;
+        r.manoeuvre = None;
+    });
+    stalled(id, goal, why, fx);
+    let stop = MoveCmd {
+        toward: tr.point_at(s),
+        speed: 0.0,
+    };
+    let _ = MoveInDirection.actuate(w, id, stop, fx);
 }
 
 /// One physics step of every vehicle; true if any is under way or still moving.
@@ -257,7 +239,7 @@ pub(crate) fn step_all(w: &mut Arena, fx: &mut Effects<'_, Ev>) -> bool {
     for &id in &ids {
         if w.follow.contains(id) {
             drive(w, id, fx);
-        } else if w.chassis.get(id).is_some_and(|r| r.controls.drive > 0.0) {
+        } else if w.chassis.get(id).is_some_and(|r| r.controls.drive != 0.0) {
             // Nothing to do: release the engine and hold the brakes.
             let _ = MoveInDirection.actuate(
                 w,

@@ -9,8 +9,8 @@
 //! car the difference does not matter at town speeds). A fixed step, a fixed insertion order
 //! and ordered iteration keep runs identical.
 //!
-//! The engine is limited to `min(m · max_accel, P / v)` at the wheels, braking to
-//! `m · max_decel`; rolling resistance and drag are applied as forces, so travel times follow
+//! The engine is limited to `min(m · max_accel, P / v)` at the wheels forwards and to the
+//! type's `reverse_force` backwards, braking to `m · max_decel`; rolling resistance and drag are applied as forces, so travel times follow
 //! from each type's own parameters.
 //!
 //! [`Chassis`] is the storage row: a copy of the body's state after each step (position,
@@ -46,7 +46,7 @@ pub enum PhysicsError {
 pub struct Controls {
     /// Front-wheel steering angle, radians, positive to the left.
     pub steer: f64,
-    /// Total engine force at the wheels, N (not negative: no reverse gear in use).
+    /// Total engine force at the wheels, N: positive forwards, negative in reverse.
     pub drive: f64,
     /// Total braking force, N.
     pub brake: f64,
@@ -81,8 +81,32 @@ pub struct Chassis {
     /// Parked: held in place (a fixed body) until the next trip.
     pub parked: bool,
     /// The farthest distance along the current trip reached, metres, and when (the
-    /// physical GoToNode gives a trip up when it stops growing).
+    /// physical GoToNode recovers, then gives the trip up, when it stops growing).
     pub progress: (f64, vitro::time::SimTime),
+    /// The smallest bearing of its track ahead since the last progress, radians: turning
+    /// towards the track counts as progress too (a vehicle swinging round onto its way).
+    pub facing: f64,
+    /// The recovery manoeuvre under way (backing out, turning in several moves), if any.
+    pub manoeuvre: Option<Manoeuvre>,
+    /// Recoveries started on the current trip.
+    pub recoveries: u32,
+}
+
+/// A recovery manoeuvre as a driver makes it: moves alternately backwards and forwards at
+/// full steering lock (a K-turn when the street is narrow), each ended by the room left
+/// behind or ahead, until the vehicle faces its track.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Manoeuvre {
+    /// The current move backs the vehicle.
+    pub reverse: bool,
+    /// Moves finished so far.
+    pub moves: u32,
+    /// Where the current move started (ground point, world x y).
+    pub from: [f64; 2],
+    /// When the current move started.
+    pub since: vitro::time::SimTime,
+    /// The side the nose is turned to: +1 left, −1 right.
+    pub side: f64,
 }
 
 impl Chassis {
@@ -250,6 +274,9 @@ impl Physics {
             integral: 0.0,
             parked: false,
             progress: (0.0, vitro::time::SimTime::ZERO),
+            facing: std::f64::consts::PI,
+            manoeuvre: None,
+            recoveries: 0,
         };
         self.read(id, &mut row);
         Ok(row)
@@ -271,7 +298,7 @@ impl Physics {
         let dt = self.dt;
         for (i, w) in v.ctrl.wheels_mut().iter_mut().enumerate() {
             w.steering = if i < 2 { c.steer as f32 } else { 0.0 };
-            w.engine_force = (c.drive.max(0.0) / n) as f32;
+            w.engine_force = (c.drive / n) as f32;
             // rapier's brake is the largest rolling-friction impulse per step.
             w.brake = (c.brake.max(0.0) / n * dt) as f32;
         }
@@ -324,6 +351,44 @@ impl Physics {
             v.ctrl.update_vehicle(dt, q);
         }
         self.world.step();
+    }
+
+    /// The free distance ahead of the vehicle's front (or, `backwards`, behind its rear),
+    /// metres, up to `range`: three horizontal rays in the chassis' frame, from its two
+    /// corners and its middle at half its height, against walls, the ground and other
+    /// vehicles (`vehicles_only`: other vehicles alone). `None` if there is no such vehicle.
+    pub fn clearance(
+        &self,
+        id: EntityId,
+        backwards: bool,
+        range: f64,
+        vehicles_only: bool,
+    ) -> Option<f64> {
+        let v = self.vehicles.get(&id)?;
+        let b = self.world.bodies.get(v.body)?;
+        let (hx, hy) = (v.ty.length as f32 / 2.0, v.ty.width as f32 / 2.0);
+        let dir = if backwards { -1.0 } else { 1.0 };
+        let rot = *b.rotation();
+        let ahead = rot * Vector::new(dir, 0.0, 0.0);
+        let own = |c: &Collider| c.parent() == Some(v.body);
+        let pred =
+            |_: ColliderHandle, c: &Collider| !own(c) && (!vehicles_only || c.parent().is_some());
+        let filter = QueryFilter::default().predicate(&pred);
+        let q = self.world.broad_phase.as_query_pipeline(
+            self.world.narrow_phase.query_dispatcher(),
+            &self.world.bodies,
+            &self.world.colliders,
+            filter,
+        );
+        let mut free = range;
+        for y in [-hy, 0.0, hy] {
+            let origin = b.position() * Vector::new(dir * (hx + 0.01), y, 0.0);
+            let ray = Ray::new(origin, ahead);
+            if let Some((_, toi)) = q.cast_ray(&ray, range as f32, true) {
+                free = free.min(f64::from(toi));
+            }
+        }
+        Some(free)
     }
 
     /// Copies a vehicle's rigid-body state into its row; false if there is no such vehicle.
