@@ -5,9 +5,10 @@
 #
 # Builds the targets (stable toolchain: `--sanitizer none`), seeds a corpus per target in a
 # temporary directory with the repository's own files and fixtures, runs each target for
-# SECONDS (default 30) with a fixed seed, and prints a table: executions, coverage (libFuzzer's
-# `cov:` edges), crashes. Exits 1 if any target crashed; the crashing input is kept under
-# $FUZZ_OUT (default: the temporary directory, printed) as crash-*.
+# SECONDS (default 30) with a fixed seed, as many at once as there are cores (each target is
+# one process on one core), and prints a table: executions, coverage (libFuzzer's `cov:`
+# edges), crashes. Exits 1 if any target crashed; the crashing input is kept under $FUZZ_OUT
+# (default: the temporary directory, printed) as crash-*.
 #
 # Environment:
 #   FUZZ_FEATURES  target groups to build (fuzz/Cargo.toml): default all
@@ -15,6 +16,7 @@
 #   FUZZ_PROFILE   "release" (default) or "dev" (cargo fuzz build --dev).
 #   FUZZ_OUT       where corpora and crashes go (default: a new temporary directory).
 #   FUZZ_BUILD     0: run the targets already built, without building.
+#   FUZZ_JOBS      targets run at once (default: the number of cores).
 #   CARGO_TARGET_DIR  default target/fuzz (kept apart from the main build).
 set -euo pipefail
 
@@ -47,6 +49,12 @@ fi
 
 dev=""
 [ "$profile" = dev ] && dev="--dev"
+triple=$(rustc -vV | sed -n 's/^host: //p')
+# Cargo's dev profile builds into debug/.
+outdir=$profile
+[ "$profile" = dev ] && outdir=debug
+bindir="$CARGO_TARGET_DIR/$triple/$outdir"
+
 started=$(date +%s)
 if [ "${FUZZ_BUILD:-1}" != 0 ]; then
     (cd fuzz && cargo fuzz build --sanitizer none $dev --no-default-features \
@@ -54,11 +62,6 @@ if [ "${FUZZ_BUILD:-1}" != 0 ]; then
 fi
 built=$(date +%s)
 echo "fuzz build ($profile, features: $features): $((built - started)) s"
-triple=$(rustc -vV | sed -n 's/^host: //p')
-# Cargo's dev profile builds into debug/.
-outdir=$profile
-[ "$profile" = dev ] && outdir=debug
-bindir="$CARGO_TARGET_DIR/$triple/$outdir"
 
 # Seeds: repository files matching each target's patterns (git ls-files globs).
 seeds() {
@@ -103,10 +106,9 @@ ws_seeds() {
     done
 }
 
-printf '\n%-22s %8s %12s %8s %8s\n' target seconds executions cov crashes
-status=0
-for t in $targets; do
-    corpus=$out/corpus/$t
+# One target: seed its corpus, run it, write its table row and whether it failed.
+fuzz_one() {
+    local t=$1 corpus=$out/corpus/$1 log=$out/$1.log rc=0 execs cov crashes
     mkdir -p "$corpus" "$out/artifacts/$t"
     if [ -z "$(ls -A "$corpus")" ]; then
         seeds "$t" | while read -r f; do
@@ -114,12 +116,6 @@ for t in $targets; do
         done
         [ "$t" = ws_command ] && ws_seeds "$corpus"
         made "$corpus" "$t"
-    fi
-    log=$out/$t.log
-    rc=0
-    if [ ! -x "$bindir/$t" ]; then
-        echo "no fuzz target binary $bindir/$t (built into another directory?)" >&2
-        exit 1
     fi
     "$bindir/$t" -seed=1 -max_total_time="$seconds" -print_final_stats=1 \
         -rss_limit_mb=4096 -timeout=30 -artifact_prefix="$out/artifacts/$t/" \
@@ -129,10 +125,32 @@ for t in $targets; do
     # crash-, oom-, timeout- and leak- files; a slow-unit- file is noted, not a failure.
     crashes=$(find "$out/artifacts/$t" -type f ! -name 'slow-unit-*' | wc -l)
     if [ "$rc" -ne 0 ] || [ "$crashes" -gt 0 ]; then
-        status=1
         [ "$crashes" -gt 0 ] || crashes="exit $rc"
+        touch "$out/$t.failed"
     fi
-    printf '%-22s %8s %12s %8s %8s\n' "$t" "$seconds" "${execs:-?}" "${cov:-?}" "$crashes"
+    printf '%-22s %8s %12s %8s %8s\n' "$t" "$seconds" "${execs:-?}" "${cov:-?}" "$crashes" \
+        >"$out/$t.row"
+}
+
+for t in $targets; do
+    if [ ! -x "$bindir/$t" ]; then
+        echo "no fuzz target binary $bindir/$t (built into another directory?)" >&2
+        exit 1
+    fi
+    rm -f "$out/$t.row" "$out/$t.failed"
 done
-echo "fuzz runs: $(($(date +%s) - built)) s; corpora, logs and crashes in $out"
+jobs=${FUZZ_JOBS:-$(nproc)}
+for t in $targets; do
+    while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+    fuzz_one "$t" &
+done
+wait
+
+printf '\n%-22s %8s %12s %8s %8s\n' target seconds executions cov crashes
+status=0
+for t in $targets; do
+    if [ -e "$out/$t.row" ]; then cat "$out/$t.row"; else echo "$t: no result (see $out/$t.log)"; fi
+    [ -e "$out/$t.row" ] && [ ! -e "$out/$t.failed" ] || status=1
+done
+echo "fuzz runs ($jobs at once): $(($(date +%s) - built)) s; corpora, logs and crashes in $out"
 exit $status
