@@ -10,6 +10,11 @@
 # edges), crashes. Exits 1 if any target crashed; the crashing input is kept under $FUZZ_OUT
 # (default: the temporary directory, printed) as crash-*.
 #
+# libFuzzer itself (C++, compiled by libfuzzer-sys's build script: a large part of a cold
+# build) is compiled once per libfuzzer-sys version and profile and kept in a cache,
+# $XDG_CACHE_HOME/vitro-libfuzzer-VERSION-PROFILE/libfuzzer.a; later builds link that archive
+# (libfuzzer-sys's CUSTOM_LIBFUZZER_PATH).
+#
 # Environment:
 #   FUZZ_FEATURES  target groups to build (fuzz/Cargo.toml): default all
 #                  ("text site record missions"); "text" is the cheap subset.
@@ -17,6 +22,8 @@
 #   FUZZ_OUT       where corpora and crashes go (default: a new temporary directory).
 #   FUZZ_BUILD     0: run the targets already built, without building.
 #   FUZZ_JOBS      targets run at once (default: the number of cores).
+#   FUZZ_CACHE     where the libFuzzer archive is kept (default $XDG_CACHE_HOME or ~/.cache);
+#                  "none": libfuzzer-sys compiles it in every cold build.
 #   CARGO_TARGET_DIR  default target/fuzz (kept apart from the main build).
 set -euo pipefail
 
@@ -55,10 +62,26 @@ outdir=$profile
 [ "$profile" = dev ] && outdir=debug
 bindir="$CARGO_TARGET_DIR/$triple/$outdir"
 
+# The libFuzzer archive: linked from the cache when there, else built as usual and then kept.
+cache=${FUZZ_CACHE:-${XDG_CACHE_HOME:-${HOME:-/tmp}/.cache}}
+libfuzzer=""
+if [ "$cache" != none ]; then
+    version=$(sed -n '/^name = "libfuzzer-sys"$/{n;s/^version = "\(.*\)"$/\1/p}' fuzz/Cargo.lock)
+    libfuzzer=$cache/vitro-libfuzzer-$version-$profile/libfuzzer.a
+    [ -f "$libfuzzer" ] && export CUSTOM_LIBFUZZER_PATH=$libfuzzer
+fi
+
 started=$(date +%s)
 if [ "${FUZZ_BUILD:-1}" != 0 ]; then
     (cd fuzz && cargo fuzz build --sanitizer none $dev --no-default-features \
         --features "$(echo $features | tr ' ' ',')")
+    if [ -n "$libfuzzer" ] && [ ! -f "$libfuzzer" ]; then
+        built_archive=$(ls -t "$bindir"/build/libfuzzer-sys-*/out/libfuzzer.a 2>/dev/null | head -1)
+        if [ -n "$built_archive" ]; then
+            mkdir -p "$(dirname "$libfuzzer")"
+            cp "$built_archive" "$libfuzzer.tmp" && mv "$libfuzzer.tmp" "$libfuzzer"
+        fi
+    fi
 fi
 built=$(date +%s)
 echo "fuzz build ($profile, features: $features): $((built - started)) s"
