@@ -10,8 +10,8 @@
 # edges), crashes. Exits 1 if any target crashed; the crashing input is kept under $FUZZ_OUT
 # (default: the temporary directory, printed) as crash-*.
 #
-# libFuzzer itself (C++, compiled by libfuzzer-sys's build script: a large part of a cold
-# build) is compiled once per libfuzzer-sys version and profile and kept in a cache,
+# libFuzzer itself (C++, which libfuzzer-sys's build script would compile in every cold build)
+# is compiled once per libfuzzer-sys version and profile and kept in a cache,
 # $XDG_CACHE_HOME/vitro-libfuzzer-VERSION-PROFILE/libfuzzer.a; later builds link that archive
 # (libfuzzer-sys's CUSTOM_LIBFUZZER_PATH).
 #
