@@ -5,9 +5,15 @@
 #
 # Builds the targets (stable toolchain: `--sanitizer none`), seeds a corpus per target in a
 # temporary directory with the repository's own files and fixtures, runs each target for
-# SECONDS (default 30) with a fixed seed, and prints a table: executions, coverage (libFuzzer's
-# `cov:` edges), crashes. Exits 1 if any target crashed; the crashing input is kept under
-# $FUZZ_OUT (default: the temporary directory, printed) as crash-*.
+# SECONDS (default 30) with a fixed seed, as many at once as there are cores (each target is
+# one process on one core), and prints a table: executions, coverage (libFuzzer's `cov:`
+# edges), crashes. Exits 1 if any target crashed; the crashing input is kept under $FUZZ_OUT
+# (default: the temporary directory, printed) as crash-*.
+#
+# libFuzzer itself (C++, which libfuzzer-sys's build script would compile in every cold build)
+# is compiled once per libfuzzer-sys version and profile and kept in a cache,
+# $XDG_CACHE_HOME/vitro-libfuzzer-VERSION-PROFILE/libfuzzer.a; later builds link that archive
+# (libfuzzer-sys's CUSTOM_LIBFUZZER_PATH).
 #
 # Environment:
 #   FUZZ_FEATURES  target groups to build (fuzz/Cargo.toml): default all
@@ -15,6 +21,9 @@
 #   FUZZ_PROFILE   "release" (default) or "dev" (cargo fuzz build --dev).
 #   FUZZ_OUT       where corpora and crashes go (default: a new temporary directory).
 #   FUZZ_BUILD     0: run the targets already built, without building.
+#   FUZZ_JOBS      targets run at once (default: the number of cores).
+#   FUZZ_CACHE     where the libFuzzer archive is kept (default $XDG_CACHE_HOME or ~/.cache);
+#                  "none": libfuzzer-sys compiles it in every cold build.
 #   CARGO_TARGET_DIR  default target/fuzz (kept apart from the main build).
 set -euo pipefail
 
@@ -47,18 +56,35 @@ fi
 
 dev=""
 [ "$profile" = dev ] && dev="--dev"
-started=$(date +%s)
-if [ "${FUZZ_BUILD:-1}" != 0 ]; then
-    (cd fuzz && cargo fuzz build --sanitizer none $dev --no-default-features \
-        --features "$(echo $features | tr ' ' ',')")
-fi
-built=$(date +%s)
-echo "fuzz build ($profile, features: $features): $((built - started)) s"
 triple=$(rustc -vV | sed -n 's/^host: //p')
 # Cargo's dev profile builds into debug/.
 outdir=$profile
 [ "$profile" = dev ] && outdir=debug
 bindir="$CARGO_TARGET_DIR/$triple/$outdir"
+
+# The libFuzzer archive: linked from the cache when there, else built as usual and then kept.
+cache=${FUZZ_CACHE:-${XDG_CACHE_HOME:-${HOME:-/tmp}/.cache}}
+libfuzzer=""
+if [ "$cache" != none ]; then
+    version=$(sed -n '/^name = "libfuzzer-sys"$/{n;s/^version = "\(.*\)"$/\1/p}' fuzz/Cargo.lock)
+    libfuzzer=$cache/vitro-libfuzzer-$version-$profile/libfuzzer.a
+    [ -f "$libfuzzer" ] && export CUSTOM_LIBFUZZER_PATH=$libfuzzer
+fi
+
+started=$(date +%s)
+if [ "${FUZZ_BUILD:-1}" != 0 ]; then
+    (cd fuzz && cargo fuzz build --sanitizer none $dev --no-default-features \
+        --features "$(echo $features | tr ' ' ',')")
+    if [ -n "$libfuzzer" ] && [ ! -f "$libfuzzer" ]; then
+        built_archive=$(ls -t "$bindir"/build/libfuzzer-sys-*/out/libfuzzer.a 2>/dev/null | head -1)
+        if [ -n "$built_archive" ]; then
+            mkdir -p "$(dirname "$libfuzzer")"
+            cp "$built_archive" "$libfuzzer.tmp" && mv "$libfuzzer.tmp" "$libfuzzer"
+        fi
+    fi
+fi
+built=$(date +%s)
+echo "fuzz build ($profile, features: $features): $((built - started)) s"
 
 # Seeds: repository files matching each target's patterns (git ls-files globs).
 seeds() {
@@ -103,10 +129,9 @@ ws_seeds() {
     done
 }
 
-printf '\n%-22s %8s %12s %8s %8s\n' target seconds executions cov crashes
-status=0
-for t in $targets; do
-    corpus=$out/corpus/$t
+# One target: seed its corpus, run it, write its table row and whether it failed.
+fuzz_one() {
+    local t=$1 corpus=$out/corpus/$1 log=$out/$1.log rc=0 execs cov crashes
     mkdir -p "$corpus" "$out/artifacts/$t"
     if [ -z "$(ls -A "$corpus")" ]; then
         seeds "$t" | while read -r f; do
@@ -114,12 +139,6 @@ for t in $targets; do
         done
         [ "$t" = ws_command ] && ws_seeds "$corpus"
         made "$corpus" "$t"
-    fi
-    log=$out/$t.log
-    rc=0
-    if [ ! -x "$bindir/$t" ]; then
-        echo "no fuzz target binary $bindir/$t (built into another directory?)" >&2
-        exit 1
     fi
     "$bindir/$t" -seed=1 -max_total_time="$seconds" -print_final_stats=1 \
         -rss_limit_mb=4096 -timeout=30 -artifact_prefix="$out/artifacts/$t/" \
@@ -129,10 +148,32 @@ for t in $targets; do
     # crash-, oom-, timeout- and leak- files; a slow-unit- file is noted, not a failure.
     crashes=$(find "$out/artifacts/$t" -type f ! -name 'slow-unit-*' | wc -l)
     if [ "$rc" -ne 0 ] || [ "$crashes" -gt 0 ]; then
-        status=1
         [ "$crashes" -gt 0 ] || crashes="exit $rc"
+        touch "$out/$t.failed"
     fi
-    printf '%-22s %8s %12s %8s %8s\n' "$t" "$seconds" "${execs:-?}" "${cov:-?}" "$crashes"
+    printf '%-22s %8s %12s %8s %8s\n' "$t" "$seconds" "${execs:-?}" "${cov:-?}" "$crashes" \
+        >"$out/$t.row"
+}
+
+for t in $targets; do
+    if [ ! -x "$bindir/$t" ]; then
+        echo "no fuzz target binary $bindir/$t (built into another directory?)" >&2
+        exit 1
+    fi
+    rm -f "$out/$t.row" "$out/$t.failed"
 done
-echo "fuzz runs: $(($(date +%s) - built)) s; corpora, logs and crashes in $out"
+jobs=${FUZZ_JOBS:-$(nproc)}
+for t in $targets; do
+    while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+    fuzz_one "$t" &
+done
+wait
+
+printf '\n%-22s %8s %12s %8s %8s\n' target seconds executions cov crashes
+status=0
+for t in $targets; do
+    if [ -e "$out/$t.row" ]; then cat "$out/$t.row"; else echo "$t: no result (see $out/$t.log)"; fi
+    [ -e "$out/$t.row" ] && [ ! -e "$out/$t.failed" ] || status=1
+done
+echo "fuzz runs ($jobs at once): $(($(date +%s) - built)) s; corpora, logs and crashes in $out"
 exit $status
