@@ -22,19 +22,22 @@ fn main() {
         .filter(|h| h.len() == 40 && h.chars().all(|c| c.is_ascii_hexdigit()))
         .unwrap_or_else(|| "unknown".to_owned());
     println!("cargo:rustc-env=VITRO_GIT_HASH={hash}");
-    // Rebuild when HEAD points elsewhere or its branch moves.
+    // Rebuild when HEAD points elsewhere or its branch moves. Only files that exist are
+    // watched: cargo takes a missing one for changed, and would rebuild on every run.
+    let watch = |path: &Path| {
+        if path.exists() {
+            println!("cargo:rerun-if-changed={}", path.display());
+        }
+    };
     if let Some(dir) = git(&["rev-parse", "--absolute-git-dir"]) {
         let dir = Path::new(&dir);
-        println!("cargo:rerun-if-changed={}", dir.join("HEAD").display());
+        watch(&dir.join("HEAD"));
         let common = git(&["rev-parse", "--git-common-dir"])
             .map(|c| Path::new(env!("CARGO_MANIFEST_DIR")).join(c))
             .unwrap_or_else(|| dir.to_owned());
-        println!(
-            "cargo:rerun-if-changed={}",
-            common.join("packed-refs").display()
-        );
+        watch(&common.join("packed-refs"));
         if let Some(head_ref) = git(&["symbolic-ref", "-q", "HEAD"]) {
-            println!("cargo:rerun-if-changed={}", common.join(head_ref).display());
+            watch(&common.join(head_ref));
         }
     }
     println!("cargo:rerun-if-changed=build.rs");
