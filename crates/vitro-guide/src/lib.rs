@@ -3,7 +3,10 @@
 //! The guide lives in `docs/guide` as an mdBook (`mdbook build docs/guide`). This crate
 //! includes every page as the documentation of one module, so that
 //! `cargo test -p vitro-guide --doc` compiles and runs every Rust block of every page: the
-//! guide cannot drift from the code it teaches. The crate has no code of its own.
+//! guide cannot drift from the code it teaches. Its own code is what the pages share: the
+//! tutorial's inspection controller ([`inspect`]).
+
+pub mod inspect;
 
 /// Introduction (`docs/guide/src/introduction.md`).
 #[doc = include_str!("../../../docs/guide/src/introduction.md")]
