@@ -56,6 +56,7 @@ fn the_watch_runs_at_two_levels_and_again_the_same() {
             panic!("{level}: nobody seen")
         };
         assert!(first > 0.0 && first < 900.0, "{level}: first at {first}");
+        assert_eq!(count(&*r, "stalls"), 0, "{level}");
         // The same scenario and seed: the same run.
         let again = run(&registry, level);
         assert_eq!(again.trace_hash(), r.trace_hash(), "{level}");
@@ -74,4 +75,26 @@ fn a_bad_watch_table_is_refused_with_its_place() {
     assert!(e.contains("watch.toml:24:"), "{e}");
     assert!(e.contains("ring_m"), "{e}");
     assert!(e.contains("has no part here"), "{e}");
+}
+
+#[test]
+fn the_guards_drive_as_rigid_bodies_too() {
+    let registry = Registry::new(vec![&WATCH]);
+    let mut r = run(&registry, "physical");
+    println!("physical: {:?}", r.summary());
+    let frame = r.frame();
+    let guards: Vec<_> = frame.entities.iter().filter(|e| e.kind == "ugv").collect();
+    assert_eq!(guards.len(), 2);
+    for g in guards {
+        assert_eq!(
+            (g.level.as_str(), g.status.as_str()),
+            ("physical", "active")
+        );
+    }
+    // A rigid body gets stuck at some turns of the ring where a junction hop does not: the
+    // guard goes on to the next junction, and the referee counts the trips given up.
+    assert!(count(&*r, "stalls") > 0);
+    assert_eq!(count(&*r, "walkers_at_depot"), 6);
+    let again = run(&registry, "physical");
+    assert_eq!(again.trace_hash(), r.trace_hash());
 }

@@ -38,6 +38,8 @@ pub struct Guard {
     pub known: BTreeSet<EntityId>,
     /// Walkers it heard of before it saw them itself.
     pub heard_first: u32,
+    /// Trips its body gave up.
+    pub stalls: u32,
 }
 
 impl Controller<Watch> for Guard {
@@ -74,7 +76,15 @@ impl Controller<Watch> for Guard {
                     self.heard_first += 1;
                 }
             }
-            // Move: arrivals (and stalls) go to the patrol.
+            // Stuck on the way (a rigid body against a kerb): on to the next junction.
+            Input::Event(Ev::Stalled(_)) => {
+                self.stalls += 1;
+                let ring = &self.patrol.route;
+                let next = ring[self.patrol.next % ring.len()];
+                self.patrol.next += 1;
+                self.patrol.error = cx.act(&self.patrol.goto, next).err();
+            }
+            // Move: arrivals go to the patrol.
             _ => self.patrol.handle(input, cx),
         }
     }
@@ -99,6 +109,7 @@ impl Guard {
             seen: Vec::new(),
             known: BTreeSet::new(),
             heard_first: 0,
+            stalls: 0,
         }
     }
 }

@@ -26,11 +26,13 @@ pub struct Metrics {
     pub first_sighting_s: Option<f64>,
     /// Walkers a guard heard of on the radio before it saw them.
     pub heard_first: u32,
+    /// Trips the guards' bodies gave up (stuck on the way).
+    pub stalls: u32,
 }
 
 impl MetricTable for Metrics {
     fn table(&self) -> Vec<(&'static str, Metric)> {
-        metric_table!(self; walkers, walkers_seen, walkers_at_depot, first_sighting_s, heard_first)
+        metric_table!(self; walkers, walkers_seen, walkers_at_depot, first_sighting_s, heard_first, stalls)
     }
 }
 // ANCHOR_END: metrics
@@ -76,7 +78,8 @@ impl Play for Perimeter {
             walkers_seen: seen.len(),
             walkers_at_depot: run.cast.walkers.iter().filter(|&&id| at_depot(id)).count(),
             first_sighting_s,
-            heard_first: guards.map(|g| g.heard_first).sum(),
+            heard_first: guards.clone().map(|g| g.heard_first).sum(),
+            stalls: guards.map(|g| g.stalls).sum(),
         }
     }
 
@@ -87,8 +90,8 @@ impl Play for Perimeter {
         vec![(
             "walkers".into(),
             format!(
-                "{} of {} seen (first at {first}), {} at the depot, {} heard of first",
-                m.walkers_seen, m.walkers, m.walkers_at_depot, m.heard_first
+                "{} of {} seen (first at {first}), {} at the depot, {} heard of first; {} stalls",
+                m.walkers_seen, m.walkers, m.walkers_at_depot, m.heard_first, m.stalls
             ),
         )]
     }
