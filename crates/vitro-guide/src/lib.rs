@@ -3,7 +3,12 @@
 //! The guide lives in `docs/guide` as an mdBook (`mdbook build docs/guide`). This crate
 //! includes every page as the documentation of one module, so that
 //! `cargo test -p vitro-guide --doc` compiles and runs every Rust block of every page: the
-//! guide cannot drift from the code it teaches. The crate has no code of its own.
+//! guide cannot drift from the code it teaches. Its own code is what the pages share: the
+//! tutorial's inspection controller ([`inspect`]) and the mission the mission tutorial builds
+//! ([`watch`]), whose files the page quotes and whose test runs it.
+
+pub mod inspect;
+pub mod watch;
 
 /// Introduction (`docs/guide/src/introduction.md`).
 #[doc = include_str!("../../../docs/guide/src/introduction.md")]
@@ -44,6 +49,10 @@ pub mod tutorial_3_check {}
 /// Tutorial part 4: a batch experiment and a plot (`docs/guide/src/tutorial-4-batch.md`).
 #[doc = include_str!("../../../docs/guide/src/tutorial-4-batch.md")]
 pub mod tutorial_4_batch {}
+
+/// Tutorial part 5: a mission of your own (`docs/guide/src/tutorial-5-mission.md`).
+#[doc = include_str!("../../../docs/guide/src/tutorial-5-mission.md")]
+pub mod tutorial_5_mission {}
 
 /// Scenarios (`docs/guide/src/scenarios.md`).
 #[doc = include_str!("../../../docs/guide/src/scenarios.md")]
