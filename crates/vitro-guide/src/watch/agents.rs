@@ -77,7 +77,7 @@ impl Controller<Watch> for Guard {
                 }
             }
             // Stuck on the way (a rigid body against a kerb): on to the next junction.
-            Input::Event(Ev::Stalled(_)) => {
+            Input::Event(Ev::Stalled(..)) => {
                 self.stalls += 1;
                 let ring = &self.patrol.route;
                 let next = ring[self.patrol.next % ring.len()];
