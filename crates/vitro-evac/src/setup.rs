@@ -20,7 +20,6 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeSet;
 use std::sync::Arc;
-use vitro::comm::LinkParams;
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
 use vitro::event::Target;
@@ -264,14 +263,7 @@ pub(crate) fn build(
     if file.tie_order == TieOrder::Shuffled {
         sim.shuffle_ties();
     }
-    let c = &file.channel;
-    sim.network_mut().set_default_link(LinkParams {
-        delay: SimDuration::from_secs_f64(c.delay_ms / 1e3),
-        jitter: SimDuration::from_secs_f64(c.jitter_ms / 1e3),
-        loss: c.loss,
-        range_m: Some(c.range_m),
-        bandwidth_bps: None,
-    });
+    sim.network_mut().set_default_link(file.channel.link());
     // The Skeldars' patrol game, solved once (from the scenario's own seed: every run of a
     // scenario flies the same plan, drawing its moves from its own seed).
     let skeldars: Vec<EntityId> = find(Role::Skeldar).map(|m| m.id).collect();

@@ -12,7 +12,6 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeSet;
 use std::sync::Arc;
-use vitro::comm::LinkParams;
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
 use vitro::event::Target;
@@ -203,13 +202,7 @@ pub(crate) fn build(v: Validated, seed: u64) -> Result<Built, SetupError> {
 
     let arena = Arena::with(site.clone(), roads.clone(), Arc::new(types.clone()));
     let mut sim = Simulation::<Field>::new(arena, seed);
-    sim.network_mut().set_default_link(LinkParams {
-        delay: secs(ch.delay_ms / 1e3),
-        jitter: secs(ch.jitter_ms / 1e3),
-        loss: ch.loss,
-        range_m: Some(ch.range_m),
-        bandwidth_bps: None,
-    });
+    sim.network_mut().set_default_link(ch.link());
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5e7e_111a);
     let mut taken = BTreeSet::new();
     // Each member's entity table (the station has none).

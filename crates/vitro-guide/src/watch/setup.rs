@@ -51,14 +51,7 @@ pub fn build(v: &Validated, seed: u64) -> Result<(Simulation<Watch>, Cast), Setu
         Arc::new(TypeBook::builtin().clone()),
     );
     let mut sim = Simulation::<Watch>::new(arena, seed);
-    let ch = &f.channel;
-    sim.network_mut().set_default_link(LinkParams {
-        delay: SimDuration::from_secs_f64(ch.delay_ms / 1e3),
-        jitter: SimDuration::from_secs_f64(ch.jitter_ms / 1e3),
-        loss: ch.loss,
-        range_m: Some(ch.range_m),
-        bandwidth_bps: None,
-    });
+    sim.network_mut().set_default_link(f.channel.link());
     // The ring: the junctions nearest eight points round the depot, in turn.
     let (drive, walk) = (roads.of(Mode::Drive), roads.of(Mode::Walk));
     let mut ring: Vec<NodeId> = Vec::new();

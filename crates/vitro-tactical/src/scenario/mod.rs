@@ -356,6 +356,28 @@ pub struct ChannelSpec {
     pub range_m: f64,
 }
 
+impl ChannelSpec {
+    /// The link between any two radios: the table's delay, jitter, loss and range, and no
+    /// bandwidth limit (`sim.network_mut().set_default_link(file.channel.link())`).
+    ///
+    /// ```
+    /// use vitro_tactical::scenario::ChannelSpec;
+    /// let link = ChannelSpec::default().link();
+    /// assert_eq!(link.delay.as_secs_f64(), 0.02);
+    /// assert_eq!(link.range_m, Some(3000.0));
+    /// ```
+    pub fn link(&self) -> vitro::comm::LinkParams {
+        let ms = |x: f64| vitro::time::SimDuration::from_secs_f64(x / 1e3);
+        vitro::comm::LinkParams {
+            delay: ms(self.delay_ms),
+            jitter: ms(self.jitter_ms),
+            loss: self.loss,
+            range_m: Some(self.range_m),
+            bandwidth_bps: None,
+        }
+    }
+}
+
 impl Default for ChannelSpec {
     fn default() -> Self {
         ChannelSpec {
