@@ -22,8 +22,9 @@
 //! let path = Path::new("scenarios/traffic.toml");
 //! let text = std::fs::read_to_string(path)?;
 //! let mut run = vitro_traffic::Streets::from_text(path, &text, Some(1), None)?;
-//! while run.advance(run.end())? {}
-//! println!("{:?}", run.metrics());
+//! let end = run.end;
+//! while Run::advance(&mut run, end)? {}
+//! println!("{:?}", Run::metrics(&run));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
@@ -165,7 +166,8 @@ impl Streets {
         let setup = Setup::from_secs(f.name.clone(), seed, f.end.time_s, f.record.sample_s, f.start);
         let site = Arc::new(v.site);
         let roads = Arc::new(Roads::new(&site));
-        let arena = Arena::with(site, roads.clone(), Arc::new(TypeBook::builtin().clone()));
+        let mut arena = Arena::with(site, roads.clone(), Arc::new(TypeBook::builtin().clone()));
+        arena.calibration = v.calibration.map(Arc::new);
         let mut sim: Simulation<Tactical> = Simulation::new(arena, seed);
         let mut rng = sim.rngs_mut().stream(Owner::Global, "traffic").clone();
         let drive = main_nodes(&roads.drive);

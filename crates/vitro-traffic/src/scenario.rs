@@ -28,7 +28,9 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use vitro::time::UtcTime;
 use vitro_site::site::Site;
-use vitro_tactical::scenario::checker::{Checker, SiteFiles};
+use vitro_tactical::calibrate::{Calibration, site_fingerprint, types_fingerprint};
+use vitro_tactical::scenario::checker::{Checker, SiteFiles, resolve};
+use vitro_tactical::types::TypeBook;
 use vitro_tactical::scenario::tables::{self, Layout, one};
 use vitro_tactical::scenario::{
     ChannelSpec, Diagnostic, Diagnostics, EndSpec, EntitySpec, FidelitySpec, RecordSpec,
@@ -145,6 +147,9 @@ pub struct Validated {
     pub path: PathBuf,
     /// The town on its terrain at the scenario's offset.
     pub site: Site,
+    /// The calibration of the abstract levels `[fidelity] calibration` names, checked
+    /// against the site and the types.
+    pub calibration: Option<Calibration>,
 }
 
 /// Reads `text` as the scenario file at `path` (its paths resolve from `path`'s directory,
@@ -159,9 +164,30 @@ pub fn validate_text(path: &Path, text: &str) -> Result<Validated, Diagnostics> 
     let mut c = Checker::new(&map, &file.entities);
     c.site(&file.site, &files);
     check_file(&mut c, &file);
+    let given = file.fidelity.calibration.as_deref();
+    let calibration_file = given.map(|p| resolve(path, p));
+    if let (Some(given), Some(resolved)) = (given, &calibration_file) {
+        c.file_exists(
+            "fidelity.calibration",
+            given,
+            resolved,
+            "a calibration file made by `vitro calibrate`",
+        );
+    }
+    let mut calibration = None;
     let site = if files.exist() {
         match files.load(&file.site, &map) {
             Ok(site) => {
+                if let Some(resolved) = calibration_file.filter(|p| p.is_file()) {
+                    match load_calibration(&resolved, &files, &file) {
+                        Ok(cal) => calibration = Some(cal),
+                        Err(e) => c.push(
+                            "fidelity.calibration",
+                            e,
+                            "a calibration made by `vitro calibrate` on this scenario's map and types",
+                        ),
+                    }
+                }
                 for (i, e) in file.entities.iter().enumerate() {
                     if let Some(p) = e.start {
                         c.place(&site, &format!("entity.{i}.start"), p, true);
@@ -183,9 +209,19 @@ pub fn validate_text(path: &Path, text: &str) -> Result<Validated, Diagnostics> 
             file,
             path: path.to_path_buf(),
             site,
+            calibration,
         }),
         _ => Err(Diagnostics::new(problems)),
     }
+}
+
+/// Reads the calibration at `path` and checks it was made on this site and these types.
+fn load_calibration(path: &Path, files: &SiteFiles, f: &TrafficFile) -> Result<Calibration, String> {
+    let cal = Calibration::read(path).map_err(|e| e.to_string())?;
+    let site = site_fingerprint(&files.map, &files.terrain, f.site.offset).map_err(|e| e.to_string())?;
+    cal.check(&site, &types_fingerprint(TypeBook::builtin()))
+        .map_err(|e| e.to_string())?;
+    Ok(cal)
 }
 
 /// Every problem that can be found without the site.
@@ -204,14 +240,6 @@ fn check_file(c: &mut Checker<'_>, f: &TrafficFile) {
                 "a ground unit: car, truck, ugv or trooper",
             );
         }
-    }
-    if let Some(path) = &f.fidelity.calibration {
-        let message = format!("calibration {} in a traffic scenario", path.display());
-        c.push(
-            "fidelity.calibration",
-            message,
-            "no calibration (traffic runs the built-in discrete estimates)",
-        );
     }
     let t = &f.traffic;
     c.num("traffic.check_s", t.check_s, false, 0.05, 60.0, "seconds");
