@@ -163,7 +163,13 @@ impl Streets {
         }
         let f = &v.file;
         let seed = seed.unwrap_or(f.seed);
-        let setup = Setup::from_secs(f.name.clone(), seed, f.end.time_s, f.record.sample_s, f.start);
+        let setup = Setup::from_secs(
+            f.name.clone(),
+            seed,
+            f.end.time_s,
+            f.record.sample_s,
+            f.start,
+        );
         let site = Arc::new(v.site);
         let roads = Arc::new(Roads::new(&site));
         let mut arena = Arena::with(site, roads.clone(), Arc::new(TypeBook::builtin().clone()));

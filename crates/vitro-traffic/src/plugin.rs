@@ -172,7 +172,11 @@ impl Play for Streets {
     }
 
     fn scene(run: &TrafficRun) -> Scene {
-        site_scene(&run.sim.env().site, run.name.clone(), run.start.unix_millis())
+        site_scene(
+            &run.sim.env().site,
+            run.name.clone(),
+            run.start.unix_millis(),
+        )
     }
 
     fn frame(run: &mut TrafficRun, frame: &mut Frame) {

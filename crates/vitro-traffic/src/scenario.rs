@@ -30,12 +30,12 @@ use vitro::time::UtcTime;
 use vitro_site::site::Site;
 use vitro_tactical::calibrate::{Calibration, site_fingerprint, types_fingerprint};
 use vitro_tactical::scenario::checker::{Checker, SiteFiles, resolve};
-use vitro_tactical::types::TypeBook;
 use vitro_tactical::scenario::tables::{self, Layout, one};
 use vitro_tactical::scenario::{
     ChannelSpec, Diagnostic, Diagnostics, EndSpec, EntitySpec, FidelitySpec, RecordSpec,
     START_PATTERN, SiteSpec, SourceMap,
 };
+use vitro_tactical::types::TypeBook;
 
 /// A whole scenario file of the traffic kind.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -216,9 +216,14 @@ pub fn validate_text(path: &Path, text: &str) -> Result<Validated, Diagnostics> 
 }
 
 /// Reads the calibration at `path` and checks it was made on this site and these types.
-fn load_calibration(path: &Path, files: &SiteFiles, f: &TrafficFile) -> Result<Calibration, String> {
+fn load_calibration(
+    path: &Path,
+    files: &SiteFiles,
+    f: &TrafficFile,
+) -> Result<Calibration, String> {
     let cal = Calibration::read(path).map_err(|e| e.to_string())?;
-    let site = site_fingerprint(&files.map, &files.terrain, f.site.offset).map_err(|e| e.to_string())?;
+    let site =
+        site_fingerprint(&files.map, &files.terrain, f.site.offset).map_err(|e| e.to_string())?;
     cal.check(&site, &types_fingerprint(TypeBook::builtin()))
         .map_err(|e| e.to_string())?;
     Ok(cal)
@@ -243,7 +248,14 @@ fn check_file(c: &mut Checker<'_>, f: &TrafficFile) {
     }
     let t = &f.traffic;
     c.num("traffic.check_s", t.check_s, false, 0.05, 60.0, "seconds");
-    c.num("traffic.still_mps", t.still_mps, false, 0.0, 5.0, "metres per second");
+    c.num(
+        "traffic.still_mps",
+        t.still_mps,
+        false,
+        0.0,
+        5.0,
+        "metres per second",
+    );
 }
 
 #[cfg(test)]

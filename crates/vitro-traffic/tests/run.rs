@@ -24,11 +24,17 @@ fn run(seed: u64, level: &str, until: u64) -> Box<dyn Run> {
 
 fn num(run: &dyn Run, name: &str) -> Option<f64> {
     let m = run.metrics();
-    m.iter().find(|(k, _)| *k == name).and_then(|(_, v)| v.number())
+    m.iter()
+        .find(|(k, _)| *k == name)
+        .and_then(|(_, v)| v.number())
 }
 
 fn check_level(level: &str) {
-    let (a, b, c) = (run(3, level, 1200), run(3, level, 1200), run(4, level, 1200));
+    let (a, b, c) = (
+        run(3, level, 1200),
+        run(3, level, 1200),
+        run(4, level, 1200),
+    );
     assert_eq!(a.trace_hash(), b.trace_hash(), "{level}");
     assert_eq!(a.metrics(), b.metrics(), "{level}");
     assert_ne!(a.trace_hash(), c.trace_hash(), "{level}");

@@ -29,7 +29,10 @@ fn committed_schema_is_current() {
 #[test]
 fn schema_describes_the_file() {
     let schema = json_schema().to_value();
-    assert_eq!(schema["additionalProperties"], false, "unknown keys are errors");
+    assert_eq!(
+        schema["additionalProperties"], false,
+        "unknown keys are errors"
+    );
     let props = schema["properties"].as_object().expect("properties");
     let mut keys: Vec<&str> = props.keys().map(String::as_str).collect();
     let mut expected = TOP_LEVEL_KEYS.to_vec();
