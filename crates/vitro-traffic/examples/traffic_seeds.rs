@@ -96,9 +96,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/traffic.toml");
     let text = std::fs::read_to_string(&path)?;
     println!(
-        "seed  trips  stalls  spent  deadlock_s  mean_trip_s  discrete_trip_s  paired_ratio  wall_s"
+        "seed  trips  stalls  stalled_vehicles  spent  deadlock_s  mean_trip_s  discrete_trip_s  paired_ratio  wall_s"
     );
     let (mut stalls, mut vh, mut worst, mut ratios) = (0u64, 0.0, 0.0f64, Vec::new());
+    let (mut stalled, mut vehicles, mut waits_over_60) = (0u64, 0u64, 0u64);
     for seed in first..=last {
         let t0 = Instant::now();
         let phys = run(&text, seed, Preset::Physical, secs)?;
@@ -117,9 +118,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         stalls += s;
         vh += metric(&phys, "vehicle_hours");
         worst = worst.max(metric(&phys, "deadlock_s"));
+        waits_over_60 += u64::from(metric(&phys, "deadlock_s") > 60.0);
+        stalled += metric(&phys, "vehicles_stalled") as u64;
+        vehicles += metric(&phys, "vehicles") as u64;
         println!(
-            "{seed:>4}  {:>5}  {s:>6}  {:>5}  {:>10.0}  {:>11.1}  {:>15.1}  {ratio:>12.3}  {:>6.0}",
+            "{seed:>4}  {:>5}  {s:>6}  {:>16}  {:>5}  {:>10.0}  {:>11.1}  {:>15.1}  {ratio:>12.3}  {:>6.0}",
             metric(&phys, "trips_completed"),
+            metric(&phys, "vehicles_stalled"),
             metric(&phys, "stalls_recovery_spent"),
             metric(&phys, "deadlock_s"),
             metric(&phys, "mean_trip_s"),
@@ -134,6 +139,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     let (lo, hi) = poisson_interval(stalls);
     let per = |x: f64| x * 20.0 / vh.max(1e-9);
+    println!(
+        "vehicles that stalled at least once: {stalled} of {vehicles}; runs with a wait over 60 s: {waits_over_60} of {n}"
+    );
     println!(
         "seeds {first}..={last} ({n} runs, {vh:.1} vehicle-hours): {stalls} stalls = {:.2} per 20 vehicle-hours (95 % {:.2}..{:.2}); longest wait {worst:.0} s; physical / discrete trip time {mean:.3} +- {:.3} (95 %, over seeds)",
         per(stalls as f64),

@@ -32,6 +32,8 @@ pub struct Metrics {
     pub trooper_trips: usize,
     /// Trips the vehicles gave up ([`vitro_tactical::arena::Ev::Stalled`]).
     pub stalls: usize,
+    /// Vehicles that stalled at least once.
+    pub vehicles_stalled: usize,
     /// Stalls for which the vehicle was still stuck after every recovery the trip allows.
     pub stalls_recovery_spent: usize,
     /// Vehicles times simulated hours.
@@ -57,7 +59,7 @@ pub struct Metrics {
 impl MetricTable for Metrics {
     fn table(&self) -> Vec<(&'static str, Metric)> {
         metric_table!(self; vehicles, troopers, trips_completed, trooper_trips, stalls,
-            stalls_recovery_spent, vehicle_hours, stalls_per_20_vh, collisions, mean_trip_s,
+            vehicles_stalled, stalls_recovery_spent, vehicle_hours, stalls_per_20_vh, collisions, mean_trip_s,
             mean_trooper_trip_s, deadlock_s, stopped, sim_time_s)
     }
 }
@@ -89,6 +91,7 @@ fn measure(run: &TrafficRun) -> Metrics {
             m.vehicles += 1;
             m.trips_completed += t.trips.len();
             m.stalls += t.stalls.len();
+            m.vehicles_stalled += usize::from(!t.stalls.is_empty());
             m.stalls_recovery_spent += (t.stalls.iter())
                 .filter(|s| s.1 == vitro_tactical::arena::StallReason::RecoverySpent)
                 .count();
@@ -228,11 +231,12 @@ impl Play for Streets {
             (
                 "vehicles".into(),
                 format!(
-                    "{} vehicles, {} trips (mean {}), {} stalls ({:.2} per 20 vehicle-hours), longest wait {:.0} s",
+                    "{} vehicles, {} trips (mean {}), {} stalls of {} vehicles ({:.2} per 20 vehicle-hours), longest wait {:.0} s",
                     m.vehicles,
                     m.trips_completed,
                     opt(m.mean_trip_s),
                     m.stalls,
+                    m.vehicles_stalled,
                     m.stalls_per_20_vh,
                     m.deadlock_s
                 ),

@@ -29,6 +29,7 @@ use std::path::{Path, PathBuf};
 use vitro::time::UtcTime;
 use vitro_site::site::Site;
 use vitro_tactical::calibrate::{Calibration, site_fingerprint, types_fingerprint};
+use vitro_tactical::entity::roads::{FreeGraph, Roads};
 use vitro_tactical::scenario::checker::{Checker, SiteFiles, resolve};
 use vitro_tactical::scenario::tables::{self, Layout, one};
 use vitro_tactical::scenario::{
@@ -178,6 +179,7 @@ pub fn validate_text(path: &Path, text: &str) -> Result<Validated, Diagnostics> 
     let site = if files.exist() {
         match files.load(&file.site, &map) {
             Ok(site) => {
+                check_room(&mut c, &file, &site);
                 if let Some(resolved) = calibration_file.filter(|p| p.is_file()) {
                     match load_calibration(&resolved, &files, &file) {
                         Ok(cal) => calibration = Some(cal),
@@ -227,6 +229,28 @@ fn load_calibration(
     cal.check(&site, &types_fingerprint(TypeBook::builtin()))
         .map_err(|e| e.to_string())?;
     Ok(cal)
+}
+
+/// Each body starts at a junction of its own: the groups must fit the main free street
+/// graph (vehicles) and walk graph (troopers) of the site.
+fn check_room(c: &mut Checker<'_>, f: &TrafficFile, site: &Site) {
+    let roads = Roads::new(site);
+    let room = |g: &FreeGraph| g.main.iter().filter(|&&m| m).count() as u64;
+    let (drive, walk) = (room(&roads.drive), room(&roads.walk));
+    let (mut vehicles, mut troopers) = (0u64, 0u64);
+    for (i, e) in f.entities.iter().enumerate() {
+        let (used, room, what) = if e.kind.is_vehicle() {
+            (&mut vehicles, drive, "vehicles")
+        } else {
+            (&mut troopers, walk, "troopers")
+        };
+        *used += u64::from(e.count);
+        if *used > room {
+            let message = format!("{} {what} in all", *used);
+            let expected = format!("at most {room} {what}, one per junction of the town");
+            c.push(&format!("entity.{i}.count"), message, &expected);
+        }
+    }
 }
 
 /// Every problem that can be found without the site.

@@ -81,3 +81,37 @@ fn a_bad_file_is_located() {
     assert!(e.contains("traffic.toml:"), "{e}");
     assert!(e.contains("`traffic.check_s`"), "{e}");
 }
+
+#[test]
+fn more_vehicles_than_junctions_are_refused() {
+    let text = std::fs::read_to_string(path())
+        .unwrap()
+        .replace("count = 7\n", "count = 19000\n");
+    let e = Traffic.validate(&path(), &text).unwrap_err().to_string();
+    assert!(e.contains("one per junction of the town"), "{e}");
+}
+
+#[test]
+fn the_referee_and_frames_do_not_change_the_run() {
+    let text = std::fs::read_to_string(path()).unwrap();
+    let options = BuildOptions {
+        seed: Some(5),
+        fidelity: Some("interpolated".to_owned()),
+    };
+    let end = SimTime::from_secs(300);
+    let mut plain = Traffic.build(&path(), &text, &options).unwrap();
+    plain.set_end(end);
+    while plain.advance(end).unwrap() {}
+    let looked = text.replace("check_s = 1.0", "check_s = 0.25");
+    let mut watched = Traffic.build(&path(), &looked, &options).unwrap();
+    watched.set_end(end);
+    let mut t = 0;
+    while t < 300 {
+        t += 7;
+        watched.advance(SimTime::from_secs(t.min(300))).unwrap();
+        let frame = watched.frame();
+        assert_eq!(frame.entities.len(), 30);
+    }
+    while watched.advance(end).unwrap() {}
+    assert_eq!(plain.trace_hash(), watched.trace_hash());
+}
