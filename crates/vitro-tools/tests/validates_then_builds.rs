@@ -171,5 +171,5 @@ fn a_mutated_surveillance_that_validates_builds() {
 
 #[test]
 fn a_mutated_traffic_that_validates_builds() {
-    scenario_cases("traffic.toml", 16);
+    scenario_cases("traffic.toml", 64);
 }
