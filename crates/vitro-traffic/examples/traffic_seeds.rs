@@ -52,16 +52,16 @@ fn metric(run: &TrafficRun, name: &str) -> f64 {
         .unwrap_or(f64::NAN)
 }
 
-/// P(X <= k) for X ~ Poisson(mu).
+/// P(X <= k) for X ~ Poisson(mu), its terms summed in log space (no underflow for large
+/// `mu`).
 fn poisson_cdf(k: u64, mu: f64) -> f64 {
-    let (mut term, mut sum) = (libm::exp(-mu), 0.0);
-    for i in 0..=k {
-        if i > 0 {
-            term *= mu / i as f64;
-        }
-        sum += term;
+    if mu <= 0.0 {
+        return 1.0;
     }
-    sum
+    let ln_mu = libm::log(mu);
+    (0..=k)
+        .map(|i| libm::exp(-mu + i as f64 * ln_mu - libm::lgamma(i as f64 + 1.0)))
+        .sum()
 }
 
 /// The exact (Garwood) 95 % interval of a Poisson mean from `k` events.
