@@ -43,7 +43,7 @@ def test_a_bad_scenario_raises_with_file_line_and_column(tmp_path, vitro_bin):
     bad.write_text('kind = "evacuaton"\nseed = 1\n')
     with pytest.raises(vitro.InputError) as e:
         vitro.run(bad)
-    assert str(e.value) == f'{bad}:1:8: "evacuaton" is not a kind of scenario (expected one of: evacuation, demo, surveillance)'
+    assert str(e.value) == f'{bad}:1:8: "evacuaton" is not a kind of scenario (expected one of: evacuation, demo, surveillance, traffic)'
     assert isinstance(e.value, ValueError)
     # The same message as the command's, which exits 2 on it.
     out = subprocess.run([str(vitro_bin), "run", str(bad)], capture_output=True, text=True)

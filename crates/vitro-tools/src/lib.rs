@@ -91,6 +91,7 @@ pub fn registry() -> &'static Registry {
             &vitro_evac::Evacuation,
             &vitro_demo::PatrollingCars,
             &vitro_surveillance::Surveillance,
+            &vitro_traffic::Traffic,
         ])
     })
 }

@@ -142,6 +142,7 @@ fn every_fixture_gets_the_same_verdict_from_its_schema_and_the_checker() {
             validator("scenarios", "surveillance.schema.json"),
         ),
         ("demo", validator("scenarios", "demo.schema.json")),
+        ("traffic", validator("scenarios", "traffic.schema.json")),
     ];
     let mut files = tomls("scenarios");
     files.extend(tomls("crates/vitro-cli/tests/bad"));

@@ -168,3 +168,8 @@ fn a_mutated_evacuation_that_validates_builds() {
 fn a_mutated_surveillance_that_validates_builds() {
     scenario_cases("surveillance.toml", 16);
 }
+
+#[test]
+fn a_mutated_traffic_that_validates_builds() {
+    scenario_cases("traffic.toml", 64);
+}
