@@ -50,7 +50,7 @@ use vitro::entity::EntityId;
 use vitro::time::SimTime;
 use vitro_mission::session::{Session, Setup};
 use vitro_tactical::condition::{Role, Status};
-use vitro_tactical::scenario::{FidelitySpec, Preset};
+use vitro_tactical::scenario::Preset;
 use vitro_tactical::world::Side;
 
 /// A run of the evacuation: the generic run with the mission's own part, [`Mission`].
@@ -84,10 +84,7 @@ impl Mission {
         preset: Preset,
     ) -> Result<EvacRun, MissionError> {
         let mut v = ScenarioFile::validate(path)?;
-        v.loaded.file.fidelity = FidelitySpec {
-            level: preset,
-            ..FidelitySpec::default()
-        };
+        v.loaded.file.fidelity.set_preset(preset);
         Mission::build(v, seed)
     }
 

@@ -13,7 +13,7 @@ use vitro::time::SimTime;
 use vitro_mission::session::{Heard, Play};
 use vitro_mission::{BuildOptions, Metric, MetricTable, Run, SnapshotError, metric_table};
 use vitro_record::{Frame, Scene};
-use vitro_tactical::scenario::{FidelitySpec, Preset};
+use vitro_tactical::scenario::Preset;
 
 /// The evacuation mission, registered as `kind = "evacuation"`.
 #[derive(Clone, Copy, Debug, Default)]
@@ -32,10 +32,7 @@ pub fn validated(
     let scenario = |e: String| vitro_mission::MissionError::Scenario(e);
     let mut v = ScenarioFile::validate_text(path, text).map_err(|d| scenario(d.report()))?;
     if let Some(level) = Preset::named(fidelity).map_err(|e| scenario(e.to_string()))? {
-        v.loaded.file.fidelity = FidelitySpec {
-            level,
-            ..FidelitySpec::default()
-        };
+        v.loaded.file.fidelity.set_preset(level);
     }
     Ok(v)
 }

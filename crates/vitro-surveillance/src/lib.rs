@@ -141,10 +141,7 @@ impl Operation {
     ) -> Result<SurveillanceRun, SurveillanceError> {
         let mut v = scenario::validate_text(path, text).map_err(SurveillanceError::Scenario)?;
         if let Some(level) = preset {
-            v.file.fidelity = vitro_tactical::scenario::FidelitySpec {
-                level,
-                ..Default::default()
-            };
+            v.file.fidelity.set_preset(level);
         }
         let f = &v.file;
         let seed = seed.unwrap_or(f.seed);

@@ -51,7 +51,7 @@ use vitro_tactical::arena::{Arena, Ev};
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::roads::{FreeGraph, Roads};
 use vitro_tactical::model::{Controller, Tactical};
-use vitro_tactical::scenario::{Diagnostics, EntityType, FidelitySpec, Preset};
+use vitro_tactical::scenario::{Diagnostics, EntityType, Preset};
 use vitro_tactical::types::{GroundKind, TroopKind, TypeBook};
 use vitro_tactical::world::Side;
 
@@ -156,10 +156,7 @@ impl Streets {
     ) -> Result<TrafficRun, TrafficError> {
         let mut v = scenario::validate_text(path, text).map_err(TrafficError::Scenario)?;
         if let Some(level) = preset {
-            v.file.fidelity = FidelitySpec {
-                level,
-                ..Default::default()
-            };
+            v.file.fidelity.set_preset(level);
         }
         let f = &v.file;
         let seed = seed.unwrap_or(f.seed);

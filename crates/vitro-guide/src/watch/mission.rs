@@ -10,7 +10,7 @@ use vitro_mission::session::{Play, Session, Setup};
 use vitro_mission::{BuildOptions, Metric, MetricTable, Mission, MissionError, Run, metric_table};
 use vitro_record::{Frame, Scene};
 use vitro_site::site::Site;
-use vitro_tactical::scenario::{FidelitySpec, Preset};
+use vitro_tactical::scenario::Preset;
 
 // ANCHOR: metrics
 /// What the referee measures, from the ground truth and the guards' own records.
@@ -153,10 +153,7 @@ impl Mission for PerimeterWatch {
         let preset = Preset::named(options.fidelity.as_deref())
             .map_err(|e| MissionError::Scenario(e.to_string()))?;
         if let Some(level) = preset {
-            v.file.fidelity = FidelitySpec {
-                level,
-                ..FidelitySpec::default()
-            };
+            v.file.fidelity.set_preset(level);
         }
         let f = &v.file;
         let seed = options.seed.unwrap_or(f.seed);

@@ -178,6 +178,23 @@ pub struct FidelitySpec {
 }
 
 impl FidelitySpec {
+    /// Every entity type at the preset `level` (a `--fidelity` option): the per-type
+    /// overrides and the calibration of the file are dropped.
+    ///
+    /// ```
+    /// use vitro_tactical::entity::Level;
+    /// use vitro_tactical::scenario::{EntityType, FidelitySpec, Preset};
+    /// let mut f: FidelitySpec = toml::from_str("truck = \"physical\"").unwrap();
+    /// f.set_preset(Preset::Interpolated);
+    /// assert_eq!(f.level_of(EntityType::Truck), Level::Interpolated);
+    /// ```
+    pub fn set_preset(&mut self, level: Preset) {
+        *self = FidelitySpec {
+            level,
+            ..FidelitySpec::default()
+        };
+    }
+
     /// The level of entity type `t`: its override if given, else the preset's level.
     pub fn level_of(&self, t: EntityType) -> Level {
         self.override_of(t)
