@@ -4,12 +4,13 @@
 //! that swing is progress as long as it turns the vehicle towards its track. It recovers
 //! only when the swing fails: its track lies behind it and the way ahead is blocked (started
 //! facing into a dead end), or it stops making progress, neither along its track nor towards
-//! it (blocked, or circling). It backs off straight, then at full lock, then turns forwards, changing direction
+//! it (blocked, or circling). It backs at full lock, then turns forwards, changing direction
 //! when the room behind or ahead runs out (a K-turn where the street is narrow; backing off
 //! where something blocks the way), until it faces its track with room ahead; then it
-//! drives on. The effort
-//! is bounded by the arena's [`Recovery`](crate::arena::Recovery): moves per recovery,
-//! recoveries per trip; a trip that needs more is given up
+//! drives on. The room of a move is measured along the arcs its corners take at its
+//! steering, so the outer corner of a vehicle turning at full lock sees the wall it would
+//! scrape. The effort is bounded by the arena's [`Recovery`](crate::arena::Recovery): moves
+//! per recovery, recoveries per trip; a trip that needs more is given up
 //! ([`StallReason::RecoverySpent`](crate::arena::StallReason::RecoverySpent)).
 
 use super::wheels::{STOPPED, SteerAndAccelerate, speed_controls};
@@ -38,9 +39,6 @@ const SWING_ROOM: f64 = 3.0;
 const ROOM_RANGE: f64 = 8.0;
 /// A move lasting this long at under 0.1 m/s is blocked, seconds.
 const BLOCKED_AFTER: f64 = 2.0;
-/// How far a recovery's first move backs straight before it turns, metres: a vehicle
-/// wedged against a wall by its side would press its nose into it backing at full lock.
-const BACK_OFF: f64 = 1.0;
 
 /// What the vehicle does this step.
 pub(super) enum Outcome {
@@ -180,11 +178,7 @@ pub(super) fn step(
             }
         }
     }
-    let turn = if m.reverse && m.moves == 0 && moved < BACK_OFF {
-        0.0
-    } else {
-        (alpha.abs() / FULL_LOCK_FROM).min(1.0) * ty.max_steer()
-    };
+    let turn = (alpha.abs() / FULL_LOCK_FROM).min(1.0) * ty.max_steer();
     let steer = if m.reverse {
         -m.side * turn
     } else {
