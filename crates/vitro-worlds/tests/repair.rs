@@ -4,10 +4,8 @@ use std::path::Path;
 
 use vitro::time::SimDuration;
 use vitro_algo::planning::validate::validate_plan;
-use vitro_algo::repair::{
-    Disturbance, Ownership, RepairConfig, RepairKind, RunFailure, RunReport, Scenario, Strategy,
-    Trigger, run,
-};
+use vitro_algo::repair::{Ownership, RepairKind, Scenario, Strategy};
+use vitro_worlds::repair::{Disturbance, RepairConfig, RunFailure, RunReport, Trigger, run};
 
 fn scenario(domain: &str, problem: &str) -> Scenario {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/planning");

@@ -10,10 +10,11 @@ use vitro::env::{Actuator, Effects, EntityStorage, KeyValueStorage, Probe, Senso
 use vitro::event::Target;
 use vitro::time::SimTime;
 
+use super::Disturbance;
 use super::record::{Applied, AppliedKind};
-use super::scenario::Team;
-use super::{Disturbance, bits};
-use crate::planning::{ActionId, FactId};
+use vitro_algo::planning::{ActionId, FactId};
+use vitro_algo::repair::Team;
+use vitro_algo::repair::bits;
 
 /// Events of the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

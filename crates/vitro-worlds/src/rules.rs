@@ -1,5 +1,5 @@
-//! The simulation adapter: a vitro agent that runs one deliberation cycle per tick, with
-//! modules bound to its sensors and actuators.
+//! Rule-programmed agents: the rule language of `vitro_algo::rules` as a vitro agent that runs
+//! one deliberation cycle per tick, with modules bound to its sensors and actuators.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -7,10 +7,10 @@ use vitro::protocol::TimerTag;
 use vitro::sim::{Agent, Context, Input, Model};
 use vitro::time::SimDuration;
 
-use super::error::RuleError;
-use super::interp::{Cycle, Interpreter, Program};
-use super::kb::{KbError, KnowledgeBase, ModuleSet, Query, Update};
-use super::term::Bindings;
+use vitro_algo::rules::{
+    Bindings, Cycle, Interpreter, KbError, KnowledgeBase, ModuleSet, Program, Query, RuleError,
+    Update,
+};
 
 /// A module of a simulated agent: like a [`KnowledgeBase`], but it may use the agent's
 /// [`Context`] to read sensors and drive actuators (a motion module bound to whatever

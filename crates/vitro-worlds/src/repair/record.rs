@@ -1,8 +1,8 @@
 //! What a run records: the actions the world applied, each repair and why it was started,
 //! and why a run failed.
 
-use super::planner::RepairKind;
 use vitro::time::{SimDuration, SimTime};
+use vitro_algo::repair::RepairKind;
 
 /// One change of the world, as the experimenter sees it.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -32,8 +32,8 @@ use serde::Serialize;
 use vitro::prelude::*;
 use vitro::rng::Owner;
 
-use super::{Instance, PatrolError, PatrolPlan};
-use crate::graph::NodeId;
+use vitro_algo::graph::NodeId;
+use vitro_algo::patrol::{Instance, PatrolError, PatrolPlan};
 
 pub use world::{AttackChoice, AttackOrder, best_replies, worst_choices};
 use world::{Attacker, STEP, tables};

@@ -3,7 +3,7 @@
 //! scalable method (team local search over phase-locked tubes with restarts), then played in
 //! the simulator against the attacker's best replies.
 //!
-//! `cargo run --release -p vitro-algo --example patrol_village [-- ITERATIONS RESTARTS TRIALS]`
+//! `cargo run --release -p vitro-worlds --example patrol_village [-- ITERATIONS RESTARTS TRIALS]`
 //!
 //! Prints the instance, the LP sizes and the solve time, the value and where the attacker
 //! wins, why (from some of its best starts, no walk of the unit guarding the west and south
@@ -21,10 +21,10 @@
 
 use std::time::Instant;
 
-use vitro_algo::patrol::sim::{AttackOrder, SimOptions, best_replies, simulate};
 use vitro_algo::patrol::{
     self, Instance, PatrolError, PatrolPlan, Policy, SolveOptions, TargetPosition,
 };
+use vitro_worlds::patrol::{AttackOrder, SimOptions, best_replies, simulate};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");

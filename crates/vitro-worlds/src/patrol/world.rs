@@ -4,12 +4,12 @@
 //! The attacker lives here too: the model names it as one of its agents, and it plays against
 //! the model's sensors, so the two cannot be split without an import circle.
 
-use crate::graph::{Graph, NodeId};
-use crate::patrol::{Instance, PatrolError, PatrolPlan};
 use rand::Rng;
 use serde::Serialize;
 use std::sync::Arc;
 use vitro::prelude::*;
+use vitro_algo::graph::{Graph, NodeId};
+use vitro_algo::patrol::{Instance, PatrolError, PatrolPlan};
 
 /// One step of the patrol clock.
 pub(super) const STEP: SimDuration = SimDuration::from_secs(1);
@@ -187,7 +187,7 @@ impl Agent<PatrolModel> for PatrolAgent {
 /// and the computed capture probability of an attack started now is at most `threshold`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct AttackChoice {
-    /// Index of the target in [`Instance::targets`](crate::patrol::Instance::targets).
+    /// Index of the target in [`Instance::targets`](vitro_algo::patrol::Instance::targets).
     pub target: usize,
     /// The phase at which the attack starts, or any.
     pub phase: Option<usize>,
@@ -246,7 +246,7 @@ fn least(table: &Tables, t: usize, phase: usize) -> f64 {
 /// capture probability is within `slack` of the least at that phase (by target, then phase).
 ///
 /// # Errors
-/// As for [`Policy::attacks`](crate::patrol::Policy::attacks).
+/// As for [`Policy::attacks`](vitro_algo::patrol::Policy::attacks).
 pub fn worst_choices(
     instance: &Instance,
     plan: &PatrolPlan,
@@ -270,7 +270,7 @@ pub fn worst_choices(
 /// computed capture probability is within `slack` of the least over every phase.
 ///
 /// # Errors
-/// As for [`Policy::attacks`](crate::patrol::Policy::attacks).
+/// As for [`Policy::attacks`](vitro_algo::patrol::Policy::attacks).
 pub fn best_replies(
     instance: &Instance,
     plan: &PatrolPlan,

@@ -11,12 +11,13 @@ use vitro::protocol::{Handled, Query, QueryEvent, TimerTag};
 use vitro::sim::{Agent, Context, CostModel, Input};
 use vitro::time::SimDuration;
 
-use super::planner::{JointPlan, Repair, StepId, Why, repair};
 use super::record::{RepairRecord, RunFailure, Trigger};
-use super::scenario::Team;
 use super::world::{Ev, Execute, View, World};
-use super::{PLAN_PROTOCOL, Strategy, TURN_PROTOCOL, bits};
-use crate::planning::FactId;
+use super::{PLAN_PROTOCOL, TURN_PROTOCOL};
+use vitro_algo::planning::FactId;
+use vitro_algo::repair::Team;
+use vitro_algo::repair::planner::{JointPlan, Repair, StepId, Why, repair};
+use vitro_algo::repair::{Strategy, bits};
 
 /// The model: the world above, the [`Worker`] agents and their messages.
 pub(crate) struct RepairModel;

@@ -9,13 +9,13 @@ use vitro::event::Target;
 use vitro::sim::Simulation;
 use vitro::time::{SimDuration, SimTime};
 
-pub use super::planner::RepairKind;
-pub use super::record::{Applied, AppliedKind, RepairRecord, RunFailure, Trigger};
+use super::record::{Applied, RepairRecord, RunFailure};
 
 use super::agent::RepairModel;
 use super::agent::{Settings, Worker};
 use super::world::{Ev, World};
-use super::{PLAN_PROTOCOL, RepairConfig, RepairError, Scenario, TURN_PROTOCOL};
+use super::{PLAN_PROTOCOL, RepairConfig, RunError, TURN_PROTOCOL};
+use vitro_algo::repair::Scenario;
 
 /// Messages sent in a run, per protocol (a message to n agents counts n).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -111,27 +111,23 @@ impl fmt::Display for RunReport {
 /// Executes the scenario's joint plan once with `config`, from master seed `seed`.
 ///
 /// # Errors
-/// [`RepairError::Probability`] or [`RepairError::ZeroPeriod`] for an invalid configuration.
-pub fn run(
-    scenario: &Scenario,
-    config: &RepairConfig,
-    seed: u64,
-) -> Result<RunReport, RepairError> {
+/// [`RunError::Probability`] or [`RunError::ZeroPeriod`] for an invalid configuration.
+pub fn run(scenario: &Scenario, config: &RepairConfig, seed: u64) -> Result<RunReport, RunError> {
     let probability = |what, value: f64| {
         if (0.0..=1.0).contains(&value) {
             Ok(())
         } else {
-            Err(RepairError::Probability { what, value })
+            Err(RunError::Probability { what, value })
         }
     };
     probability("failure_probability", config.failure_probability)?;
     if let Some(d) = config.disturbance {
         probability("disturbance probability", d.probability)?;
         if d.period == SimDuration::ZERO {
-            return Err(RepairError::ZeroPeriod);
+            return Err(RunError::ZeroPeriod);
         }
     }
-    let team = Arc::clone(&scenario.team);
+    let team = Arc::clone(scenario.team());
     let world = World::new(
         Arc::clone(&team),
         config.failure_probability,
@@ -154,7 +150,7 @@ pub fn run(
         let worker = Worker::new(i, Arc::clone(&team), Arc::clone(&settings));
         let id = sim
             .add_agent(name.clone(), worker)
-            .map_err(|_| RepairError::DuplicateAgent(name.clone()))?;
+            .map_err(|_| RunError::DuplicateAgent(name.clone()))?;
         debug_assert_eq!(id, peers[i]);
         sim.env_mut().embody(id, i);
     }

@@ -2,7 +2,7 @@
 //! posts, chase intruders they see or hear about on the radio, and arrest them.
 //!
 //! ```text
-//! cargo run -p vitro-algo --example rules_demo -- [SEED] [HOURS]
+//! cargo run -p vitro-worlds --example rules_demo -- [SEED] [HOURS]
 //! ```
 //!
 //! The program is the same for both guards; their modules bind it to the world: `motion`
@@ -16,10 +16,8 @@ use std::process::ExitCode;
 
 use rand::Rng;
 use vitro::prelude::*;
-use vitro_algo::rules::{
-    Bindings, Embodied, EmbodiedModules, FactBase, KbError, Program, Query, RuleAgent, Term,
-    Update, unify,
-};
+use vitro_algo::rules::{Bindings, FactBase, KbError, Program, Query, Term, Update, unify};
+use vitro_worlds::rules::{Embodied, EmbodiedModules, RuleAgent};
 
 const POSTS: u32 = 8;
 const WALK: SimDuration = SimDuration::from_secs(20);

@@ -3,7 +3,7 @@
 //! computed capture probabilities within their 99% intervals.
 
 use vitro_algo::graph::{self, Graph, NodeId};
-use vitro_algo::patrol::sim::{AttackOrder, SimOptions, best_replies, simulate, worst_choices};
+use vitro_worlds::patrol::{AttackOrder, SimOptions, best_replies, simulate, worst_choices};
 /// Steps an attack takes.
 const DEADLINE: u32 = 4;
 use vitro_algo::patrol::{Instance, PatrolPlan, Patroller, PlanParams, Target, TargetPosition};

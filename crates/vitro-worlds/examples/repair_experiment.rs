@@ -2,7 +2,7 @@
 //! strategy, a table per strategy, and a plot of the messages sent.
 //!
 //! ```text
-//! cargo run --release -p vitro-algo --example repair_experiment -- \
+//! cargo run --release -p vitro-worlds --example repair_experiment -- \
 //!     [--seeds N] [--max-expansions N] [--plot PATH] [DOMAIN.pddl PROBLEM.pddl]
 //! ```
 //!
@@ -15,7 +15,8 @@ use std::process::ExitCode;
 
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
-use vitro_algo::repair::{Ownership, RepairConfig, RunReport, Scenario, Strategy, run};
+use vitro_algo::repair::{Ownership, Scenario, Strategy};
+use vitro_worlds::repair::{RepairConfig, RunReport, run};
 
 /// DejaVu Sans (licence: `assets/fonts/DejaVuSans-LICENSE.txt`).
 static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
