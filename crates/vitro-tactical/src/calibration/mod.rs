@@ -213,8 +213,9 @@ pub struct Fit {
     pub epsilon: f64,
     /// Trips fitted.
     pub trips: usize,
-    /// Trips of the fitted set the outlier screen left out (`vitro_calibrate::fit::screened_fit`; their
-    /// residuals still count in `fit_residuals`).
+    /// Trips of the fitted set the outlier screen left out
+    /// (`vitro_calibrate::fit::screened_fit`; their residuals still count in
+    /// `fit_residuals`).
     #[serde(default)]
     pub excluded: usize,
     /// Residuals on the fitted trips (abstract level without / with calibration against the
@@ -299,7 +300,8 @@ pub struct Calibration {
     /// The fits, one per (entity type, abstract level).
     #[serde(rename = "fit")]
     pub fits: Vec<Fit>,
-    /// The squads' pace at the abstract levels (`vitro_calibrate::squad`); none in a file made before it.
+    /// The squads' pace at the abstract levels (`vitro_calibrate::squad`); none in a file
+    /// made before it.
     #[serde(rename = "squad", default)]
     pub squads: Vec<SquadFit>,
     /// The sample trips.
