@@ -1,6 +1,7 @@
-//! The sample flights of the aircraft calibration ([`vitro_tactical::calibration::air`]): waypoint routes over the
-//! town, flown at the lattice and at the type's continuous level; the fit of each type; and
-//! the evaluation of a calibration on fresh flights.
+//! The sample flights of the aircraft calibration
+//! ([`vitro_tactical::calibration::air`]): waypoint routes over the town, flown at the
+//! lattice and at the type's continuous level; the fit of each type; and the evaluation of a
+//! calibration on fresh flights.
 //!
 //! A sample flight starts over a point of the town (on a lattice cell's centre, so that both
 //! levels start from the same place) at the type's mission height above the ground, on a

@@ -1,5 +1,10 @@
-//! # vitro-check: the cross-level check, one controller run at every level of fidelity, its
-//! stated properties re-checked on each.
+//! # vitro-check: one controller at every level of fidelity, its properties re-checked on each
+//!
+//! The levels of `vitro-tactical` (a vehicle hopping between nodes, a point on the ground
+//! mesh, a rigid body) are only interchangeable if a controller keeps its stated properties
+//! on each. This crate runs the controllers (the generic ones of `vitro-behaviour`, or a
+//! user's own) on a town ([`Setup`]) at each level and judges
+//! every run.
 //!
 //! A [`Scenario`] runs one controller for one entity at a given level and returns the
 //! recorded [`Run`] (trajectory, arrival, limits); a [`Property`] judges a run. A
