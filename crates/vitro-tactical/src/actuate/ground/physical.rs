@@ -7,7 +7,8 @@
 //! Under way, the driver keeps to traffic rules read off the other vehicles on its track
 //! ahead: it keeps a gap to one in its lane, keeps right of an oncoming one (both do, so they
 //! pass on a street wide enough) and passes one at rest on the side that needs the smaller
-//! swerve; held up behind a moving vehicle it is waiting, not stuck. Started turned off its
+//! swerve; swinging round onto its track, it drives no faster than it can stop short of a
+//! wall or body straight ahead; held up behind a moving vehicle it is waiting, not stuck. Started turned off its
 //! way with room ahead, it swings round forwards (pure pursuit at full lock), and turning
 //! towards its track counts as progress. Only when that fails (its track behind it and the
 //! way ahead blocked, as facing into a dead end, or no progress along its track or towards
@@ -35,8 +36,19 @@ const STOP_WITHIN: f64 = 1.5;
 const PARK_BELOW: f64 = 0.05;
 /// Turn towards the track ahead that counts as progress, radians (6°).
 const TURNED: f64 = 0.1;
+/// How far ahead of its nose the driver watches for walls and bodies, metres.
+const WATCH: f64 = 10.0;
+/// Room kept to a wall or body straight ahead, metres.
+const SHORT_OF: f64 = 1.0;
+/// Bearing of the track ahead beyond which the vehicle is swinging round onto it, radians
+/// (30°).
+const SWINGING: f64 = 0.5;
+/// Share of the type's braking used to stop short of something straight ahead.
+const WALL_BRAKING: f64 = 0.5;
 /// MoveInDirection at the physical level: steers for the point by pure pursuit (the arc
-/// through it, `δ = atan(2 L sin α / d)`) and controls the speed, through
+/// through it, `δ = atan(2 L sin α / d)`; for a point more than 90° off the nose, where that
+/// arc would straighten out, as for a point right behind, `sin α` is taken as ±1, the
+/// tightest turn towards it) and controls the speed, through
 /// [`SteerAndAccelerate`]. A negative speed backs the vehicle towards the point, rear first
 /// (pure pursuit of the rear: `δ = −atan(2 L sin α_r / d)` with `α_r` the point's bearing
 /// from the rear), at most the type's reverse speed.
@@ -61,14 +73,24 @@ impl Actuator<Arena, Ev> for MoveInDirection {
         let d = libm::sqrt(dx * dx + dy * dy).max(1.0);
         let steer = if cmd.speed < 0.0 {
             let alpha = wrap_angle(libm::atan2(dy, dx) - row.heading() - std::f64::consts::PI);
-            -libm::atan(2.0 * ty.wheelbase * libm::sin(alpha) / d)
+            -libm::atan(2.0 * ty.wheelbase * pursuit(alpha) / d)
         } else {
             let alpha = wrap_angle(libm::atan2(dy, dx) - row.heading());
-            libm::atan(2.0 * ty.wheelbase * libm::sin(alpha) / d)
+            libm::atan(2.0 * ty.wheelbase * pursuit(alpha) / d)
         };
         let (controls, integral) = speed_controls(&row, ty, cmd.speed, steer, dt);
         w.chassis.update(me, |r| r.integral = integral);
         SteerAndAccelerate.actuate(w, me, controls, fx)
+    }
+}
+
+/// Pure pursuit's `sin α` for a point at bearing `alpha`: ±1 beyond 90°, so a point behind
+/// turns the vehicle at the tightest towards it rather than not at all.
+fn pursuit(alpha: f64) -> f64 {
+    if alpha.abs() > std::f64::consts::FRAC_PI_2 {
+        alpha.signum()
+    } else {
+        libm::sin(alpha)
     }
 }
 
@@ -196,6 +218,19 @@ fn drive(w: &mut Arena, id: EntityId, fx: &mut Effects<'_, Ev>) {
         let look = (2.0 + 0.6 * v.abs()).clamp(3.0, 12.0);
         let mut speed = tr.speed_at(s).min(tr.speed_at(s + v.abs() + 2.0));
         speed = speed.max(CREEP).min(give.speed);
+        // Swinging round onto its track (started across it, or after a manoeuvre), the
+        // vehicle is off the street the track keeps to: it drives no faster than it can stop
+        // short of whatever is straight ahead. On its track it needs no such care (the track
+        // keeps clear of buildings, and the rays would meet the rising ground of a slope).
+        if facing > SWINGING
+            && let Some(free) = w
+                .physics
+                .as_ref()
+                .and_then(|p| p.clearance_steered(id, false, row.controls.steer, WATCH, false))
+        {
+            let a = WALL_BRAKING * w.types.ground(row.kind).max_decel;
+            speed = speed.min(libm::sqrt(2.0 * a * (free - SHORT_OF).max(0.0)));
+        }
         let mut toward = tr.point_at(s + look);
         if give.offset != 0.0 {
             let h = tr.heading_at(s + look);

@@ -4,9 +4,10 @@
 //! that swing is progress as long as it turns the vehicle towards its track. It recovers
 //! only when the swing fails: its track lies behind it and the way ahead is blocked (started
 //! facing into a dead end), or it stops making progress, neither along its track nor towards
-//! it (blocked, or circling). It backs at full lock, then turns forwards, changing direction
+//! it (blocked, or circling). It backs off straight, then at full lock, then turns forwards, changing direction
 //! when the room behind or ahead runs out (a K-turn where the street is narrow; backing off
-//! where something blocks the way), until it faces its track; then it drives on. The effort
+//! where something blocks the way), until it faces its track with room ahead; then it
+//! drives on. The effort
 //! is bounded by the arena's [`Recovery`](crate::arena::Recovery): moves per recovery,
 //! recoveries per trip; a trip that needs more is given up
 //! ([`StallReason::RecoverySpent`](crate::arena::StallReason::RecoverySpent)).
@@ -29,7 +30,7 @@ const FULL_LOCK_FROM: f64 = 0.5;
 /// Speed of a manoeuvre's moves, m/s (backwards: at most the type's reverse speed).
 const MANOEUVRE_SPEED: f64 = 2.0;
 /// Room a manoeuvring vehicle keeps free ahead of or behind it, metres.
-const ROOM: f64 = 1.0;
+const ROOM: f64 = 0.5;
 /// Room ahead a vehicle swinging round forwards onto its track keeps; with less, and its
 /// track behind it, it backs instead, metres.
 const SWING_ROOM: f64 = 3.0;
@@ -37,6 +38,9 @@ const SWING_ROOM: f64 = 3.0;
 const ROOM_RANGE: f64 = 8.0;
 /// A move lasting this long at under 0.1 m/s is blocked, seconds.
 const BLOCKED_AFTER: f64 = 2.0;
+/// How far a recovery's first move backs straight before it turns, metres: a vehicle
+/// wedged against a wall by its side would press its nose into it backing at full lock.
+const BACK_OFF: f64 = 1.0;
 
 /// What the vehicle does this step.
 pub(super) enum Outcome {
@@ -80,10 +84,11 @@ pub(super) fn step(
             if !(behind || stuck) {
                 return Outcome::Driving;
             }
+            // The room along the swing the driver is making.
             let ahead = w
                 .physics
                 .as_ref()
-                .and_then(|p| p.clearance(id, false, ROOM_RANGE, false))
+                .and_then(|p| p.clearance_steered(id, false, row.controls.steer, ROOM_RANGE, false))
                 .unwrap_or(0.0);
             // With its track behind it but room ahead, the driver swings round forwards
             // (the way on's own steering does that); only a blocked swing needs a manoeuvre.
@@ -109,7 +114,15 @@ pub(super) fn step(
         }
     };
     let moved = dist(m.from, [g[0], g[1]]);
-    if (m.moves >= 1 || moved >= 0.5 * ty.length) && alpha.abs() < ALIGNED {
+    // Facing the track again with room to drive on it: the manoeuvre is over.
+    let clear_ahead = || {
+        w.physics
+            .as_ref()
+            .and_then(|p| p.clearance(id, false, ROOM_RANGE, false))
+            .unwrap_or(0.0)
+            >= SWING_ROOM
+    };
+    if (m.moves >= 1 || moved >= 0.5 * ty.length) && alpha.abs() < ALIGNED && clear_ahead() {
         // Facing the track again: drive on.
         w.chassis.update(id, |r| {
             r.manoeuvre = None;
@@ -120,10 +133,11 @@ pub(super) fn step(
     }
     let elapsed = now.saturating_since(m.since).as_secs_f64();
     let v = row.speed;
+    // The room along the way the move is going: its corners' arcs at its steering.
     let room = w
         .physics
         .as_ref()
-        .and_then(|p| p.clearance(id, m.reverse, ROOM_RANGE, false))
+        .and_then(|p| p.clearance_steered(id, m.reverse, row.controls.steer, ROOM_RANGE, false))
         .unwrap_or(0.0);
     let stopping = v * v / (2.0 * ty.max_decel) + ROOM;
     // A move backwards goes a fifth of a turn at most; forwards, round if it has room.
@@ -166,7 +180,11 @@ pub(super) fn step(
             }
         }
     }
-    let turn = (alpha.abs() / FULL_LOCK_FROM).min(1.0) * ty.max_steer();
+    let turn = if m.reverse && m.moves == 0 && moved < BACK_OFF {
+        0.0
+    } else {
+        (alpha.abs() / FULL_LOCK_FROM).min(1.0) * ty.max_steer()
+    };
     let steer = if m.reverse {
         -m.side * turn
     } else {

@@ -40,8 +40,9 @@ pub struct OnGround {
 impl OnGround {
     /// Changes the speed towards the command for `dt` seconds on a grade of `slope`:
     /// accelerating at most [`GroundType::accel_limit`], braking at most `max_decel`; in
-    /// reverse, speeding up with the type's `reverse_force` (less rolling resistance) to at
-    /// most its [`reverse_speed`](GroundType::reverse_speed). A change of direction brakes to
+    /// reverse, speeding up with the type's `reverse_force` (less rolling resistance), no
+    /// harder than `max_accel` as forwards, to at most its
+    /// [`reverse_speed`](GroundType::reverse_speed). A change of direction brakes to
     /// rest first.
     pub fn update_speed(&mut self, ty: &GroundType, slope: f64, dt: f64) {
         let target = self.cmd.map_or(0.0, |c| c.speed.max(-ty.reverse_speed()));
@@ -49,7 +50,9 @@ impl OnGround {
             if self.speed > 0.0 {
                 self.speed = (self.speed - ty.max_decel * dt).max(target.max(0.0));
             } else {
-                let a = (ty.reverse_force / ty.mass - ty.rolling_resistance * G).max(0.0);
+                let a = (ty.reverse_force / ty.mass - ty.rolling_resistance * G)
+                    .min(ty.max_accel)
+                    .max(0.0);
                 self.speed = (self.speed - a * dt).max(target);
             }
         } else if target > self.speed {
@@ -142,7 +145,7 @@ mod tests {
         b.update_speed(ty, 0.0, 0.5);
         assert_eq!(b.speed, 0.0);
         b.update_speed(ty, 0.0, 0.5);
-        let a = ty.reverse_force / ty.mass - ty.rolling_resistance * G;
+        let a = (ty.reverse_force / ty.mass - ty.rolling_resistance * G).min(ty.max_accel);
         assert!((b.speed + a * 0.5).abs() < 1e-12, "{}", b.speed);
         for _ in 0..40 {
             b.update_speed(ty, 0.0, 0.5);

@@ -9,7 +9,7 @@
 //! car the difference does not matter at town speeds). A fixed step, a fixed insertion order
 //! and ordered iteration keep runs identical.
 //!
-//! The engine is limited to `min(m · max_accel, P / v)` at the wheels forwards and to the
+//! The engine is limited to `min(grip, P / v)` at the wheels forwards (grip: 0.7 of the weight) and to the
 //! type's `reverse_force` backwards, braking to `m · max_decel`; rolling resistance and drag are applied as forces, so travel times follow
 //! from each type's own parameters.
 //!
@@ -364,12 +364,26 @@ impl Physics {
         range: f64,
         vehicles_only: bool,
     ) -> Option<f64> {
+        self.clearance_steered(id, backwards, 0.0, range, vehicles_only)
+    }
+
+    /// As [`clearance`](Self::clearance), with the front wheels at `steer` (radians, positive
+    /// to the left): each ray leaves its corner in the direction that corner moves when the
+    /// vehicle turns about its rear axle's centre of turn (the bicycle model), so the outer
+    /// front corner of a vehicle swinging at full lock sees the wall it would scrape.
+    pub fn clearance_steered(
+        &self,
+        id: EntityId,
+        backwards: bool,
+        steer: f64,
+        range: f64,
+        vehicles_only: bool,
+    ) -> Option<f64> {
         let v = self.vehicles.get(&id)?;
         let b = self.world.bodies.get(v.body)?;
         let (hx, hy) = (v.ty.length as f32 / 2.0, v.ty.width as f32 / 2.0);
-        let dir = if backwards { -1.0 } else { 1.0 };
+        let dir: f32 = if backwards { -1.0 } else { 1.0 };
         let rot = *b.rotation();
-        let ahead = rot * Vector::new(dir, 0.0, 0.0);
         let own = |c: &Collider| c.parent() == Some(v.body);
         let pred =
             |_: ColliderHandle, c: &Collider| !own(c) && (!vehicles_only || c.parent().is_some());
@@ -380,10 +394,25 @@ impl Physics {
             &self.world.colliders,
             filter,
         );
+        // The centre of turn in the chassis frame: beside the rear axle, at the signed
+        // radius L / tan(steer) (none when the wheels are straight).
+        let tan = libm::tan(steer);
+        let rear = -(v.ty.wheelbase as f32) / 2.0;
         let mut free = range;
         for y in [-hy, 0.0, hy] {
-            let origin = b.position() * Vector::new(dir * (hx + 0.01), y, 0.0);
-            let ray = Ray::new(origin, ahead);
+            let (px, py) = (dir * (hx + 0.01), y);
+            let (dx, dy) = if tan.abs() < 1e-6 {
+                (dir, 0.0)
+            } else {
+                let r = (v.ty.wheelbase / tan) as f32;
+                // The corner's velocity turning forwards: ω ẑ × (p − c), ω of the sign of r.
+                let (vx, vy) = (r - py, px - rear);
+                let (vx, vy) = (vx * r.signum() * dir, vy * r.signum() * dir);
+                let n = (vx * vx + vy * vy).sqrt().max(1e-6);
+                (vx / n, vy / n)
+            };
+            let origin = b.position() * Vector::new(px, py, 0.0);
+            let ray = Ray::new(origin, rot * Vector::new(dx, dy, 0.0));
             if let Some((_, toi)) = q.cast_ray(&ray, range as f32, true) {
                 free = free.min(f64::from(toi));
             }
