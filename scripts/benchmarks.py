@@ -28,7 +28,7 @@ Tables (`--only`):
 - `big`: the 10,000-entity rows of the same program, at the discrete and interpolated levels;
 - `abm`: Flocking, Schelling and WolfSheep, Vitro against krABMaga (`scripts/abm_compare.sh`);
 - `los`: line of sight, BVH against brute force (`-p vitro-site --example los_bench`);
-- `levels`: simulated seconds per wall second at each level of fidelity (`-p vitro-tactical
+- `levels`: simulated seconds per wall second at each level of fidelity (`-p vitro-behaviour
   --example level_speed`).
 """
 
@@ -422,7 +422,7 @@ def table_los(ctx):
 
 
 def table_levels(ctx):
-    exe = build("vitro-tactical", "level_speed")
+    exe = build("vitro-behaviour", "level_speed")
     secs = 20 if ctx.quick else 600
     out = run([exe, secs])
     rows = []
@@ -434,7 +434,7 @@ def table_levels(ctx):
         raise Failed(f"no rows in level_speed's output:\n{out}")
     lines = header(
         ctx,
-        ["cargo build --release -p vitro-tactical --example level_speed",
+        ["cargo build --release -p vitro-behaviour --example level_speed",
          f"target/release/examples/level_speed {secs}"],
         f"{secs} simulated seconds per scene on Kotka; one run each.",
     )

@@ -51,8 +51,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! The guide (`docs/guide`) shows a controller on the tactical world; its Part 1 uses
-//! [`graph::grid`] as the streets of a synthetic town.
+//! The synthetic worlds where these algorithms run as agents of a `vitro` simulation (a
+//! patrol against an attacker, a team executing and repairing a plan, rule-programmed
+//! agents) are the crate above, `vitro-worlds`. The guide (`docs/guide`) shows a controller
+//! on the tactical world; its Part 1 uses [`graph::grid`] as the streets of a synthetic town.
 
 pub mod cops;
 pub mod graph;

@@ -1,6 +1,6 @@
 //! `vitro calibrate SCENARIO --from physical [--to discrete,interpolated] --out FILE`: fits
 //! the abstract levels' trip times to the concrete level's on sample trips over the
-//! scenario's own town and terrain ([`vitro_tactical::calibrate`]).
+//! scenario's own town and terrain ([`vitro_calibrate`]).
 
 use crate::Failure;
 use crate::batch::progress_bar;
@@ -10,16 +10,16 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 use vitro_batch::plot::{Scatter, plot_residuals};
+use vitro_calibrate::fit::{Stamp, calibrate as fit_all, runs_needed};
+use vitro_calibrate::flights::{self, FlightSampling, calibrate_air, sample_flights};
+use vitro_calibrate::trips::{Sampling, sample};
 use vitro_site::map::{MapConfig, TownMap};
 use vitro_site::site::{Site, SiteConfig};
 use vitro_site::terrain::Terrain;
-use vitro_tactical::calibrate::Residuals;
-use vitro_tactical::calibrate::fit::{Stamp, calibrate as fit_all, runs_needed};
-use vitro_tactical::calibrate::flights::{self, FlightSampling, calibrate_air, sample_flights};
-use vitro_tactical::calibrate::trips::{Sampling, sample};
-use vitro_tactical::calibrate::{Calibration, site_fingerprint, types_fingerprint};
-use vitro_tactical::check::Setup;
+use vitro_tactical::calibration::Residuals;
+use vitro_tactical::calibration::{Calibration, site_fingerprint, types_fingerprint};
 use vitro_tactical::entity::Level;
+use vitro_tactical::setup::Setup;
 
 #[derive(Debug, Args)]
 pub(crate) struct CalibrateArgs {

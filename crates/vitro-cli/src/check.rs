@@ -7,12 +7,13 @@ use clap::{Args, Subcommand};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::sync::Arc;
-use vitro_tactical::calibrate::evaluate::evaluate;
-use vitro_tactical::calibrate::flights::{FlightSampling, evaluate_air, sample_flights};
-use vitro_tactical::calibrate::trips::{Sampling, sample};
-use vitro_tactical::calibrate::{Calibration, site_fingerprint, types_fingerprint};
-use vitro_tactical::check::{CheckError, Registry, Row, Setup};
+use vitro_calibrate::evaluate::evaluate;
+use vitro_calibrate::flights::{FlightSampling, evaluate_air, sample_flights};
+use vitro_calibrate::trips::{Sampling, sample};
+use vitro_check::{CheckError, Registry, Row};
+use vitro_tactical::calibration::{Calibration, site_fingerprint, types_fingerprint};
 use vitro_tactical::entity::Level;
+use vitro_tactical::setup::Setup;
 
 #[derive(Debug, Subcommand)]
 pub(crate) enum CheckCommand {

@@ -7,14 +7,14 @@
 
 use std::sync::Arc;
 use vitro::env::NodeId;
+use vitro_calibrate::trips::{self, Trip};
 use vitro_evac::Mission;
 use vitro_site::map::Mode;
-use vitro_tactical::calibrate::trips::{self, Trip};
-use vitro_tactical::calibrate::{Calibration, Features};
-use vitro_tactical::check::Setup;
+use vitro_tactical::calibration::{Calibration, Features};
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::discrete::NodeKind;
 use vitro_tactical::entity::route::wrap_angle;
+use vitro_tactical::setup::Setup;
 use vitro_tactical::types::GroundKind;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

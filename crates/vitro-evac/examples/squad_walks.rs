@@ -8,13 +8,13 @@
 //! times and the ratio directed / discrete.
 
 use std::sync::Arc;
+use vitro_calibrate::squad::{Walk, walk};
+use vitro_calibrate::trips::{Sampling, sample};
 use vitro_evac::Mission;
-use vitro_tactical::calibrate::Calibration;
-use vitro_tactical::calibrate::squad::{Walk, walk};
-use vitro_tactical::calibrate::trips::{Sampling, sample};
-use vitro_tactical::check::Setup;
+use vitro_tactical::calibration::Calibration;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::discrete::NodeKind;
+use vitro_tactical::setup::Setup;
 use vitro_tactical::types::TroopKind;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -7,12 +7,12 @@
 
 use std::sync::Arc;
 use vitro::env::NodeId;
+use vitro_calibrate::trips::{self, Trip, par_map};
 use vitro_evac::Mission;
-use vitro_tactical::calibrate::Calibration;
-use vitro_tactical::calibrate::trips::{self, Trip, par_map};
-use vitro_tactical::check::Setup;
+use vitro_tactical::calibration::Calibration;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::discrete::NodeKind;
+use vitro_tactical::setup::Setup;
 use vitro_tactical::types::GroundKind;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

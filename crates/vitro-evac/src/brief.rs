@@ -7,10 +7,10 @@ use std::sync::Arc;
 use vitro::comm::GroupId;
 use vitro::entity::EntityId;
 use vitro::env::NodeId;
+use vitro_behaviour::formation::FormationParams;
 use vitro_site::geo::P2;
 use vitro_site::map::Mode;
 use vitro_site::site::Site;
-use vitro_tactical::behaviour::formation::FormationParams;
 use vitro_tactical::entity::Level;
 use vitro_tactical::entity::roads::Roads;
 use vitro_tactical::types::TroopKind;
@@ -69,7 +69,7 @@ pub struct Brief {
 #[derive(Clone, Debug)]
 pub struct FormationBrief {
     /// The leader's rule program, source text (the scenario's file or the built-in
-    /// [`LEADER_PROGRAM`](vitro_tactical::behaviour::formation::LEADER_PROGRAM)); checked when the mission is
+    /// [`LEADER_PROGRAM`](vitro_behaviour::formation::LEADER_PROGRAM)); checked when the mission is
     /// built.
     pub program: String,
     /// The squad's parameters (spacing from the scenario).

@@ -21,11 +21,11 @@ use crate::referee::Referee;
 use serde::{Deserialize, Serialize};
 use vitro::sim::{SimState, SimStateRef, Simulation};
 use vitro::trace::stable_str_hash;
+use vitro_behaviour::route::VisitNodes;
 use vitro_mission::SnapshotError;
 use vitro_mission::snapshot::briefed::Restoring;
 use vitro_tactical::actuate::by_level::Drive;
 use vitro_tactical::arena::{ArenaState, ArenaStateRef, Ev, site_digest};
-use vitro_tactical::behaviour::route::VisitNodes;
 use vitro_tactical::model::Controller;
 
 vitro_mission::agent_kinds! { Box<dyn Controller<Evac>>:

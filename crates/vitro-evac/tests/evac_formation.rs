@@ -13,11 +13,11 @@ use common::{commander, pct, trooper};
 use std::collections::{BTreeMap, BTreeSet};
 use vitro::entity::EntityId;
 use vitro::time::SimTime;
+use vitro_behaviour::formation::{Switch, TrackPoint};
 use vitro_evac::EvacRun;
 use vitro_evac::Mission;
 use vitro_evac::agents::commander::Phase;
 use vitro_evac::scenario::ScenarioFile;
-use vitro_tactical::behaviour::formation::{Switch, TrackPoint};
 use vitro_tactical::condition::Status;
 use vitro_tactical::scenario::{EntityType, FidelitySpec, Preset, SideSpec};
 

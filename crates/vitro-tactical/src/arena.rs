@@ -229,7 +229,7 @@ pub struct Arena {
     pub(crate) tracks: TrackCache,
     /// The calibration the abstract levels' trips follow (none: the profile as planned).
     /// Not part of the state: a function of the scenario.
-    pub calibration: Option<Arc<crate::calibrate::Calibration>>,
+    pub calibration: Option<Arc<crate::calibration::Calibration>>,
     /// Per clock: its next tick, while it runs.
     next_tick: [Option<EventId>; 3],
     /// The active bodies on a grid, for vision ([`bodies_near`](Self::bodies_near)), and

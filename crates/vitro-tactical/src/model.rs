@@ -4,7 +4,8 @@
 //! [`Tactical<M>`](Tactical) is a [`Model`] whose environment is the arena, whose events
 //! are [`Ev`], whose messages are the mission's type `M` and whose agents are boxed
 //! [`Controller`]s, so that one simulation can hold controllers of every kind
-//! and level (each generic over its top actuator, e.g. `VisitNodes<GoToNode>`); a
+//! and level (each generic over its top actuator, e.g. `vitro_behaviour`'s
+//! `VisitNodes<GoToNode>`); a
 //! controller added with [`Simulation::add`](vitro::sim::Simulation::add) is read back by
 //! its handle, in its own type. Every mission on the arena runs on this one model, with its
 //! own vocabulary: the shared behaviours ask of `M` only the words they speak
@@ -18,7 +19,6 @@
 //! use vitro_tactical::actuate::ground::discrete::GoToNode;
 //! use vitro_tactical::arena::{Arena, Ev};
 //! use vitro_tactical::entity::Level;
-//! use vitro_tactical::behaviour::route::VisitNodes;
 //! use vitro_tactical::model::{Controller, Tactical};
 //! use vitro_tactical::types::GroundKind;
 //! # use vitro_site::{map::{MapConfig, TownMap}, site::{Site, SiteConfig}, terrain::Terrain};
@@ -26,16 +26,27 @@
 //! # let map = TownMap::load(format!("{root}/data/maps/kotka.osm.pbf"), &MapConfig::default()).unwrap();
 //! # let terrain = Terrain::load(format!("{root}/data/terrain/valley_64x64_90m.asc")).unwrap();
 //! # let site = Arc::new(Site::new(map, terrain, &SiteConfig::default()).unwrap());
+//! /// Drives to one node; logs the arrival.
+//! struct GoTo { to: NodeId, log: Vec<(SimTime, NodeId)> }
+//! impl Controller for GoTo {
+//!     fn handle(&mut self, input: Input<'_, Tactical>, cx: &mut Context<'_, Tactical>) {
+//!         match input {
+//!             Input::Event(Ev::Start) => cx.act(&GoToNode, self.to).expect("a known node"),
+//!             Input::Event(Ev::Arrived(n)) => self.log.push((cx.now(), *n)),
+//!             _ => {}
+//!         }
+//!     }
+//! }
 //! let arena = Arena::new(site);
 //! let drive = &arena.roads.drive;
 //! let (a, b) = (drive.nearest_connected([-300.0, 0.0]).unwrap(),
 //!               drive.nearest_connected([300.0, 100.0]).unwrap());
 //! let mut sim = Simulation::<Tactical>::new(arena, 7);
-//! let car = sim.add("car", VisitNodes::new(vec![b], GoToNode)).unwrap();
+//! let car = sim.add("car", GoTo { to: b, log: Vec::new() }).unwrap();
 //! sim.env_mut().add_vehicle(car.id(), GroundKind::Car, Level::Discrete, a, 0.0).unwrap();
 //! sim.schedule(SimTime::ZERO, Target::Entity(car.id()), Ev::Start).unwrap();
 //! sim.run_until(SimTime::from_secs(3600));
-//! let visit: &VisitNodes<GoToNode> = sim.agent(&car).unwrap();
+//! let visit: &GoTo = sim.agent(&car).unwrap();
 //! assert_eq!(visit.log.last().map(|&(_, n)| n), Some(b));
 //! ```
 

@@ -61,14 +61,14 @@ pub trait Carries<T>: From<T> {
     fn carried(&self) -> Option<T>;
 }
 
-/// The words of tracking (see [`belief`](crate::belief)): position reports and contacts.
+/// The words of tracking (see `vitro_behaviour::belief`): position reports and contacts.
 /// Every message type carrying the two has it.
 pub trait Reports: Message + Carries<Fix> + Carries<Contact> {}
 
 impl<M: Message + Carries<Fix> + Carries<Contact>> Reports for M {}
 
 /// The words of a formation squad's protocol (see
-/// [`behaviour::formation`](crate::behaviour::formation)): position reports, contacts,
+/// `vitro_behaviour::formation`): position reports, contacts,
 /// orders to move and named signals. Every message type carrying the four has it.
 pub trait SquadTalk: Reports + Carries<Command> + Carries<Signal> {}
 

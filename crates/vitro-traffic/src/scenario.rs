@@ -28,7 +28,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use vitro::time::UtcTime;
 use vitro_site::site::Site;
-use vitro_tactical::calibrate::{Calibration, site_fingerprint, types_fingerprint};
+use vitro_tactical::calibration::{Calibration, site_fingerprint, types_fingerprint};
 use vitro_tactical::entity::roads::{FreeGraph, Roads};
 use vitro_tactical::scenario::checker::{Checker, SiteFiles, resolve};
 use vitro_tactical::scenario::tables::{self, Layout, one};

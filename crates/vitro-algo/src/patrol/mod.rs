@@ -111,10 +111,10 @@
 //! # Using and checking a plan
 //!
 //! [`PatrolPlan`] is the plain-data face for a mission: solve once, then ask each unit's next
-//! vertex step by step ([`PatrolPlan::next_vertex`]). [`sim`] plays a plan in the simulator
-//! (`vitro` agents: units sampling their policies, convoys on their timetables, an attacker
-//! striking at its computed best replies) and estimates the capture probabilities with 99%
-//! intervals; [`monte_carlo`] does the same for one policy without the simulator.
+//! vertex step by step ([`PatrolPlan::next_vertex`]). `vitro_worlds::patrol` plays a plan in
+//! the simulator (`vitro` agents: units sampling their policies, convoys on their timetables,
+//! an attacker striking at its computed best replies) and estimates the capture probabilities
+//! with 99% intervals; [`monte_carlo`] does the same for one policy without the simulator.
 //!
 //! Policies with memory (history-dependent patrols) and coordinated teams (joint moves) can
 //! beat these; they are outside the optimised classes.
@@ -152,7 +152,6 @@ mod montecarlo;
 mod plan;
 mod policy;
 mod relax;
-pub mod sim;
 mod solution;
 mod supports;
 mod team;

@@ -1,5 +1,6 @@
-//! What a repairer plans: the new joint plan for each strategy, from its belief of the
-//! current state and the plan it holds. Pure functions of their inputs.
+//! What a repairer plans when steps run turn by turn: the new joint plan for each strategy,
+//! from its belief of the current state and the plan it holds. Pure functions of their
+//! inputs (the agents of `vitro_worlds::repair` call them).
 
 use serde::Serialize;
 
@@ -11,21 +12,25 @@ use crate::planning::{ActionId, FactId, Task};
 
 /// A step's identity: the plan version that introduced it and its position there.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
-pub(crate) struct StepId {
+pub struct StepId {
+    /// The plan version that introduced the step.
     pub version: u32,
+    /// Its position in that version.
     pub index: u32,
 }
 
 /// One step of a joint plan.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub(crate) struct Step {
+pub struct Step {
+    /// Its identity.
     pub id: StepId,
+    /// The ground action.
     pub action: ActionId,
 }
 
 /// A joint plan as an agent holds it.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
-pub(crate) struct JointPlan {
+pub struct JointPlan {
     /// The number of repairs that led to it (0: the original plan).
     pub version: u32,
     /// The state it starts from (as its author believed it).
@@ -78,7 +83,7 @@ fn new_steps(version: u32, actions: &[ActionId]) -> Vec<Step> {
 
 /// What triggered a repair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Why {
+pub enum Why {
     /// The step at this position failed (its precondition was false or its effect wrong).
     Failure(usize),
     /// The plan ended without the goal.
@@ -98,7 +103,8 @@ pub enum RepairKind {
 
 /// A repairer's decision.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct Repair {
+pub struct Repair {
+    /// The kind of repair made.
     pub kind: RepairKind,
     /// Back-on-track found no plan and replanned instead.
     pub fell_back: bool,
@@ -135,7 +141,7 @@ fn search(team: &Team, from: &[u64], goal: Vec<FactId>, bound: Option<u64>) -> F
 }
 
 /// Plans the repair of `old` for `strategy`, from `belief`, as plan `version`.
-pub(crate) fn repair(
+pub fn repair(
     team: &Team,
     strategy: Strategy,
     bound: Option<u64>,

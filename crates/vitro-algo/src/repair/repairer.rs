@@ -107,7 +107,7 @@ pub struct RepairTally {
 /// plan and repairs it by a [`Strategy`] when the agents that execute it, in a world of
 /// their own (a mission), report a failure, a lost teammate or the end of the plan.
 ///
-/// The stand-alone [`run`](super::run) executes a plan turn by turn in a world of its own;
+/// The stand-alone `vitro_worlds::repair::run` executes a plan turn by turn in a world of its own;
 /// here the caller owns the world and the radio. Each agent executes its own steps in
 /// order, in parallel with the others; the caller tells the repairer which steps were done
 /// ([`Repairer::done`]), what it believes is true ([`Repairer::repair`]'s `belief`) and

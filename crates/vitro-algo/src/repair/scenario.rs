@@ -54,7 +54,8 @@ impl Ownership {
 
 /// Everything the agents of a run share: the task, the team and the initial joint plan.
 #[derive(Debug)]
-pub(crate) struct Team {
+pub struct Team {
+    /// The ground task.
     pub task: Task,
     /// Agent names (objects that own at least one action), in problem object order.
     pub agents: Vec<String>,
@@ -130,7 +131,7 @@ impl Scenario {
         let d = parse_domain(domain.text, domain.name).map_err(PlanError::from)?;
         let p = parse_problem(&d, problem.text, problem.name).map_err(PlanError::from)?;
         let task = ground(&d, &p).map_err(PlanError::from)?;
-        let team = Self::team(&p, task, ownership)?;
+        let team = Self::build_team(&p, task, ownership)?;
         Ok(Scenario {
             domain_text: domain.text.to_string(),
             problem_text: problem.text.to_string(),
@@ -165,7 +166,11 @@ impl Scenario {
         )
     }
 
-    fn team(problem: &Problem, task: Task, ownership: &Ownership) -> Result<Team, RepairError> {
+    fn build_team(
+        problem: &Problem,
+        task: Task,
+        ownership: &Ownership,
+    ) -> Result<Team, RepairError> {
         // Owner object of each action, by name.
         let mut owner_name = Vec::with_capacity(task.actions.len());
         for a in &task.actions {
@@ -243,6 +248,11 @@ impl Scenario {
     /// The ground task.
     pub fn task(&self) -> &Task {
         &self.team.task
+    }
+    /// The team: agents, their actions and views, the initial plan (shared by every agent
+    /// of a run).
+    pub fn team(&self) -> &Arc<Team> {
+        &self.team
     }
     /// The agents (owning objects), in problem object order.
     pub fn agents(&self) -> &[String] {

@@ -179,7 +179,7 @@ impl KnowledgeBase for FactBase {
 /// What the interpreter needs of an agent's modules: find them by name, query, update.
 ///
 /// [`Modules`] implements it for plain knowledge bases; the simulation adapter
-/// ([`RuleAgent`](super::RuleAgent)) for modules bound to sensors and actuators.
+/// (`vitro_worlds::rules::RuleAgent`) for modules bound to sensors and actuators.
 pub trait ModuleSet {
     /// The index of module `name`.
     fn find(&self, name: &str) -> Option<usize>;

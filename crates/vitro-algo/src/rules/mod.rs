@@ -3,10 +3,10 @@
 //!
 //! An agent is a set of named **modules** (beliefs, goals, a motion module bound to its
 //! sensors and actuators, ...), each answering queries and taking updates
-//! ([`KnowledgeBase`], or [`Embodied`] for modules that use the simulation context). Its
-//! **program** is a tree of rules `when <query> then <statement>`; one **deliberation
-//! cycle** evaluates the tree once against the modules. [`RuleAgent`] runs one cycle per
-//! tick in a vitro simulation.
+//! ([`KnowledgeBase`]; `vitro_worlds::rules::Embodied` for modules that use a simulation's
+//! context). Its **program** is a tree of rules `when <query> then <statement>`; one
+//! **deliberation cycle** evaluates the tree once against the modules.
+//! `vitro_worlds::rules::RuleAgent` runs one cycle per tick in a vitro simulation.
 //!
 //! ```text
 //! // guard: report an intruder once, then go for it; otherwise patrol.
@@ -66,7 +66,6 @@
 //! Errors carry the program's name, line and column, e.g.
 //! `guard.jz:4:17: expected 'then' after query, found '{'`.
 
-mod agent;
 mod ast;
 mod error;
 mod interp;
@@ -76,7 +75,6 @@ mod macros;
 mod parser;
 mod term;
 
-pub use agent::{Embodied, EmbodiedModules, RULES_TIMER, RuleAgent};
 pub use error::{ErrorKind, Pos, RuleError};
 pub use interp::{Cycle, CycleError, Interpreter, Program};
 pub use kb::{FactBase, KbError, KnowledgeBase, ModuleSet, Modules, Query, Update};

@@ -18,10 +18,10 @@ use vitro::env::NodeId;
 use vitro::protocol::Handled;
 use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
+use vitro_behaviour::belief::Beacon;
 use vitro_site::map::Mode;
 use vitro_tactical::actuate::MoveError;
 use vitro_tactical::arena::{Ev, StallReason};
-use vitro_tactical::belief::Beacon;
 use vitro_tactical::condition::Status;
 use vitro_tactical::model::{Controller, Intention};
 

@@ -42,9 +42,9 @@ use vitro_algo::pursuit::{
     Belief, Budget, EvaderStrategy, EvaderView, Mcts, MctsConfig, Minimax, MinimaxConfig,
     PursuerStrategy, PursuerView,
 };
+use vitro_behaviour::belief::Whereabouts;
 use vitro_site::map::Mode;
 use vitro_tactical::arena::OwnPose;
-use vitro_tactical::belief::Whereabouts;
 
 /// `Radio::Signal(SEARCH, "x y")`: the hunt lead's most likely place of the target (world
 /// metres), sent to the blue group every turn.

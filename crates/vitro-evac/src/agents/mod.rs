@@ -20,7 +20,7 @@ use vitro::comm::{Address, Outgoing};
 use vitro::entity::{EntityId, EntityMap};
 use vitro::sim::Context;
 use vitro::time::{SimDuration, SimTime};
-use vitro_tactical::belief::{Beacon, Whereabouts};
+use vitro_behaviour::belief::{Beacon, Whereabouts};
 use vitro_tactical::sensor::Sighting;
 use vitro_tactical::world::Side;
 

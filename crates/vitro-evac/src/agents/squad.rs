@@ -4,7 +4,7 @@
 //! lets out: it orders the last of them to the VIP (`Order::GoTo`; pursuers of the
 //! high-value target are taken from the first troopers) and tells the others to follow that
 //! one (`Order::Follow`). Each mission [`Trooper`](super::trooper::Trooper)
-//! then embeds a formation controller ([`vitro_tactical::behaviour::formation`]): a [`Leader`] in the one
+//! then embeds a formation controller ([`vitro_behaviour::formation`]): a [`Leader`] in the one
 //! ordered to go, a [`Member`] in each one told to follow. The trooper forwards its inputs
 //! to that controller while the squad walks (the formation's own radio protocol, its
 //! timers, the ends of its hops) and takes control back for boarding and the hunt. The
@@ -46,7 +46,7 @@ use vitro::entity::EntityId;
 use vitro::protocol::TimerTag;
 use vitro::sim::{Context, Input};
 use vitro::time::{SimDuration, SimTime};
-use vitro_tactical::behaviour::formation::{Leader, Member};
+use vitro_behaviour::formation::{Leader, Member};
 use vitro_tactical::model::{Controller, Intention};
 
 /// The formation controllers' timer tags (leader "FL", member "FM").

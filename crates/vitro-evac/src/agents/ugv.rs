@@ -12,9 +12,9 @@ use std::sync::Arc;
 use vitro::env::NodeId;
 use vitro::sim::{Context, Input};
 use vitro::time::SimDuration;
+use vitro_behaviour::belief::{Beacon, Whereabouts};
 use vitro_site::map::Mode;
 use vitro_tactical::arena::Ev;
-use vitro_tactical::belief::{Beacon, Whereabouts};
 use vitro_tactical::model::{Controller, Intention};
 
 /// Timer key of the next goal.

@@ -6,8 +6,8 @@
 use super::ScenarioFile;
 use super::loaded::Loaded;
 use std::path::Path;
+use vitro_behaviour::formation::Leader;
 use vitro_site::site::Site;
-use vitro_tactical::behaviour::formation::Leader;
 use vitro_tactical::scenario::checker::{Checker, TOWN_XY};
 use vitro_tactical::scenario::{
     Diagnostic, EntitySpec, EntityType, MAX_COUNT, MAX_END_S, SideSpec, SourceMap,

@@ -53,7 +53,7 @@ pub struct Validated {
     /// The town on its terrain at the scenario's offset.
     pub site: Arc<Site>,
     /// The calibration the scenario names, checked against its site and types.
-    pub calibration: Option<Arc<vitro_tactical::calibrate::Calibration>>,
+    pub calibration: Option<Arc<vitro_tactical::calibration::Calibration>>,
     /// The free street graphs of `site`, built the first time they are asked for.
     roads: OnceLock<Arc<Roads>>,
 }

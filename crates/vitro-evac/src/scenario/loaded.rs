@@ -3,7 +3,7 @@
 use super::ScenarioFile;
 use std::path::PathBuf;
 use vitro_site::site::Site;
-use vitro_tactical::calibrate::{Calibration, site_fingerprint, types_fingerprint};
+use vitro_tactical::calibration::{Calibration, site_fingerprint, types_fingerprint};
 use vitro_tactical::scenario::checker::SiteFiles;
 use vitro_tactical::scenario::{Diagnostics, SourceMap};
 use vitro_tactical::types::TypeBook;

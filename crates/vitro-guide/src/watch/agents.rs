@@ -5,9 +5,9 @@
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 use vitro::prelude::*;
+use vitro_behaviour::route::VisitNodes;
 use vitro_tactical::actuate::by_level::Drive;
 use vitro_tactical::arena::Ev;
-use vitro_tactical::behaviour::route::VisitNodes;
 use vitro_tactical::model::{Controller, Tactical};
 use vitro_tactical::radio::{Basic, Contact, Message};
 use vitro_tactical::sensor::FriendFoeVision;

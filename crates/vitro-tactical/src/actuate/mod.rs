@@ -6,7 +6,7 @@
 //!
 //! The top actuators take a goal node and answer with [`Ev::Arrived`] when the body is there,
 //! at every level, so a controller written against them (e.g.
-//! [`VisitNodes`](crate::behaviour::route::VisitNodes)) runs unchanged whichever storage is underneath.
+//! `vitro_behaviour::route::VisitNodes`) runs unchanged whichever storage is underneath.
 //! A goal is taken only at rest (between trips): a body under way refuses with
 //! [`MoveError::UnderWay`].
 //!

@@ -51,7 +51,7 @@ pub(crate) fn arrived(who: EntityId, goal: NodeId, fx: &mut Effects<'_, Ev>) {
 /// The track from `from` to `goal` for a body of `kind` at `level` heading `heading`
 /// (planned once per arena, then shared). At an abstract level (discrete, interpolated)
 /// with a fit in the arena's [`calibration`](Arena::calibration), the profile is stretched
-/// to the predicted concrete time for a start at that heading ([`crate::calibrate`]);
+/// to the predicted concrete time for a start at that heading ([`crate::calibration`]);
 /// otherwise it is the plan itself.
 pub(crate) fn plan(
     w: &mut Arena,
@@ -61,16 +61,16 @@ pub(crate) fn plan(
     goal: NodeId,
     heading: f64,
 ) -> Result<Arc<Track>, MoveError> {
-    let cal = w
-        .calibration
-        .clone()
-        .filter(|c| c.fit(&crate::calibrate::entity_key(kind), level).is_some());
+    let cal = w.calibration.clone().filter(|c| {
+        c.fit(&crate::calibration::entity_key(kind), level)
+            .is_some()
+    });
     let Some(cal) = cal else {
         return plan_raw(w, kind, from, goal);
     };
     let raw = plan_raw(w, kind, from, goal)?;
     let k = cal.stretch(kind, level, &raw, heading).unwrap_or(1.0);
-    Ok(Arc::new(crate::calibrate::stretched(&raw, k)))
+    Ok(Arc::new(crate::calibration::stretched(&raw, k)))
 }
 
 /// The planned track, uncalibrated.
@@ -108,7 +108,7 @@ pub(crate) fn start_trip(
 }
 
 /// [`start_trip`] with the profile stretched by `pace` (a squad leader's pace from the
-/// arena's calibration, [`crate::calibrate::squad`]); `None` or 1: as planned.
+/// arena's calibration, `vitro_calibrate::squad`); `None` or 1: as planned.
 pub(crate) fn start_paced_trip(
     w: &mut Arena,
     me: EntityId,
@@ -132,7 +132,7 @@ pub(crate) fn start_paced_trip(
     let (kind, from, heading) = (b.kind, b.node, b.heading);
     let mut track = plan(w, kind, Level::Discrete, from, goal, heading)?;
     if let Some(k) = pace.filter(|&k| k != 1.0) {
-        track = Arc::new(crate::calibrate::stretched(&track, k));
+        track = Arc::new(crate::calibration::stretched(&track, k));
     }
     let trip = Trip {
         goal,

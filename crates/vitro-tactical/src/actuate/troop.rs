@@ -31,7 +31,7 @@ pub mod discrete {
 
     /// A squad leader's hop at the discrete level at its pace: [`WalkToNode`], the hop's
     /// profile stretched by the pace's factor where the arena has a calibration with a
-    /// squad fit ([`crate::calibrate::squad`]); as [`WalkToNode`] without one.
+    /// squad fit (`vitro_calibrate::squad`); as [`WalkToNode`] without one.
     #[derive(Copy, Clone, Debug, Default)]
     pub struct PacedWalkToNode;
 

@@ -10,7 +10,7 @@
 //!
 //! A maneuver takes its length at the commanded speed (a climb no faster than the type's
 //! climb rate for a helicopter), so a lattice trajectory never jumps further than its speed
-//! allows. Under a calibration with a fit for the type ([`crate::calibrate::air`]), a
+//! allows. Under a calibration with a fit for the type ([`crate::calibration::air`]), a
 //! waypoint command is flown at an effective speed, the commanded one divided by the
 //! predicted stretch of its route.
 
@@ -43,7 +43,7 @@ impl Actuator<Arena, Ev> for Autopilot {
         validate(&cmd)?;
         let b = w.lattice.get(me).ok_or(FlyError::NoBody(me))?;
         let moving = b.moving_to.is_some();
-        // A calibration flies the command at its effective speed (`calibrate::air`).
+        // A calibration flies the command at its effective speed (`calibration::air`).
         let cmd = w
             .calibration
             .as_ref()

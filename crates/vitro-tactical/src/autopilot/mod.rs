@@ -1,7 +1,7 @@
 //! Autopilots: straight flight and waypoint following, for both aircraft types at both
 //! levels. Each level's `Autopilot` takes the same [`FlightCommand`](crate::entity::air::FlightCommand) and answers with
 //! [`Ev::Waypoint`] as each waypoint is reached, so one mission (e.g.
-//! [`FlightMission`](crate::behaviour::route::FlightMission)) flies any of them unchanged.
+//! `vitro_behaviour::route::FlightMission`) flies any of them unchanged.
 //!
 //! | aircraft | level | chain |
 //! |---|---|---|
