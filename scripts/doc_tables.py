@@ -146,6 +146,11 @@ TABLES = {
         batch("surveillance_allocation", "results/surveillance_allocation",
               "python3 scripts/allocation_table.py results/surveillance_allocation/summary.csv"),
         makes={0: "results/surveillance_allocation"}, minutes=2),
+    "traffic": Table(
+        "experiments/README.md",
+        batch("traffic_levels", "results/traffic_levels",
+              "python3 scripts/traffic_table.py results/traffic_levels/summary.csv"),
+        makes={0: "results/traffic_levels"}, minutes=12),
 }
 
 # Pages --check scans for markers.
