@@ -27,7 +27,7 @@ pub use experiment::{NoMission, batch_error, failed_runs, load_experiment, runne
 use std::path::Path;
 use std::sync::OnceLock;
 use vitro::time::{SimDuration, SimTime};
-use vitro_mission::{BuildOptions, MissionError, Registry, RegistryError, Run, RunFailed};
+use vitro_mission::{BuildOptions, Mission, MissionError, Registry, RegistryError, Run, RunFailed};
 
 /// The longest run `until` accepts, simulated seconds.
 pub const MAX_UNTIL_S: f64 = 1.0e6;
@@ -82,17 +82,57 @@ pub fn input_file(path: &Path) -> Result<(), ToolError> {
     )))
 }
 
-/// The registry of every mission the tools run: the evacuation, the patrolling-cars demo
-/// and the surveillance mission.
+/// The registry the tools use, set on first use.
+static REGISTRY: OnceLock<Registry> = OnceLock::new();
+
+/// The missions shipped with the tools: the evacuation, the patrolling-cars demo, the
+/// surveillance mission and the traffic scenario.
+fn stock() -> Vec<&'static dyn Mission> {
+    vec![
+        &vitro_evac::Evacuation,
+        &vitro_demo::PatrollingCars,
+        &vitro_surveillance::Surveillance,
+        &vitro_traffic::Traffic,
+    ]
+}
+
+/// The registry of every mission the tools run: the stock missions, and those
+/// [`install`]ed beside them.
 pub fn registry() -> &'static Registry {
-    static REGISTRY: OnceLock<Registry> = OnceLock::new();
-    REGISTRY.get_or_init(|| {
-        Registry::new(vec![
-            &vitro_evac::Evacuation,
-            &vitro_demo::PatrollingCars,
-            &vitro_surveillance::Surveillance,
-            &vitro_traffic::Traffic,
-        ])
+    REGISTRY.get_or_init(|| Registry::new(stock()))
+}
+
+/// Registers `missions` beside the stock ones for the rest of the process, so every tool
+/// (`vitro run`, `validate`, `batch`, `search`, `view`, `resume`, the Python package) runs
+/// their scenario files. Call it once, before the first run; `vitro_cli::run` does.
+///
+/// A mission's own binary installs it and hands over to the `vitro` command
+/// (`vitro_cli::run` does both). A kind is registered once:
+///
+/// ```
+/// let e = vitro_tools::install(vec![&vitro_evac::Evacuation]).unwrap_err();
+/// assert_eq!(e.to_string(), r#"two missions registered as kind "evacuation""#);
+/// ```
+///
+/// # Errors
+///
+/// [`ToolError::Input`] if two missions (stock or given) share a kind;
+/// [`ToolError::Runtime`] if the registry is already in use (installed, or read).
+pub fn install(missions: Vec<&'static dyn Mission>) -> Result<(), ToolError> {
+    let mut all = stock();
+    for m in missions {
+        if all.iter().any(|o| o.kind() == m.kind()) {
+            return Err(ToolError::Input(format!(
+                "two missions registered as kind {:?}",
+                m.kind()
+            )));
+        }
+        all.push(m);
+    }
+    REGISTRY.set(Registry::new(all)).map_err(|_| {
+        ToolError::Runtime(
+            "the missions are already in use: install them once, before the first run".into(),
+        )
     })
 }
 
